@@ -1,0 +1,255 @@
+#include "common/hdf5_file.h"
+
+#include <hdf5.h>
+
+#include <filesystem>
+
+#include "common/error.h"
+
+namespace pilelab {
+
+namespace {
+struct Silence {  // HDF5 prints its own error stack by default; we report errors ourselves.
+  Silence() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+};
+void silence() { static Silence s; }
+
+hsize_t product(const std::vector<std::uint64_t>& dims) {
+  hsize_t n = 1;
+  for (auto d : dims) n *= d;
+  return n;
+}
+
+// Closes an HDF5 handle of any kind on scope exit.
+struct Handle {
+  hid_t id;
+  explicit Handle(hid_t i) : id(i) {}
+  ~Handle() {
+    if (id >= 0) H5Idec_ref(id);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+};
+}  // namespace
+
+H5File H5File::create(const std::string& path) {
+  silence();
+  hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) throw InputError(path + ": cannot create HDF5 file");
+  return H5File(id, path);
+}
+
+H5File H5File::open_read(const std::string& path) {
+  silence();
+  if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
+  if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path + ": not an HDF5 file (corrupt or truncated?)");
+  hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) throw InputError(path + ": cannot open as HDF5 (corrupt?)");
+  return H5File(id, path);
+}
+
+H5File::H5File(H5File&& o) noexcept : id_(o.id_), path_(std::move(o.path_)) { o.id_ = -1; }
+
+H5File::~H5File() {
+  if (id_ >= 0) H5Fclose(id_);
+}
+
+void H5File::fail(const std::string& object, const std::string& what) const {
+  throw InputError(path_ + ": " + object + ": " + what);
+}
+
+bool H5File::exists(const std::string& object_path) const {
+  // Check each prefix: H5Lexists fails on a path whose parent is missing.
+  std::size_t pos = 0;
+  while (true) {
+    pos = object_path.find('/', pos + 1);
+    const std::string prefix = object_path.substr(0, pos);
+    if (!prefix.empty() && prefix != "/" && H5Lexists(id_, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (pos == std::string::npos) return true;
+  }
+}
+
+std::vector<std::string> H5File::list(const std::string& group_path) const {
+  Handle g(H5Gopen2(id_, group_path.c_str(), H5P_DEFAULT));
+  if (g.id < 0) fail(group_path, "no such group");
+  H5G_info_t info;
+  H5Gget_info(g.id, &info);
+  std::vector<std::string> names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    char buf[512];
+    ssize_t n = H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, buf, sizeof buf, H5P_DEFAULT);
+    if (n > 0) names.emplace_back(buf, static_cast<std::size_t>(n));
+  }
+  return names;
+}
+
+void H5File::ensure_group(const std::string& group_path) {
+  if (group_path.empty() || group_path == "/" || exists(group_path)) return;
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id, 1);
+  Handle g(H5Gcreate2(id_, group_path.c_str(), lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
+  if (g.id < 0) fail(group_path, "cannot create group");
+}
+
+namespace {
+template <class T>
+void write_dataset(hid_t file, const std::string& name, const std::vector<T>& data,
+                   std::vector<std::uint64_t> dims, hid_t type, const std::string& path) {
+  if (dims.empty()) dims = {data.size()};
+  if (product(dims) != data.size()) throw InputError(path + ": " + name + ": shape does not match data");
+  std::vector<hsize_t> hd(dims.begin(), dims.end());
+  Handle space(H5Screate_simple(static_cast<int>(hd.size()), hd.data(), nullptr));
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id, 1);
+  Handle ds(H5Dcreate2(file, name.c_str(), type, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
+  if (ds.id < 0) throw InputError(path + ": " + name + ": cannot create dataset");
+  if (!data.empty() && H5Dwrite(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
+    throw InputError(path + ": " + name + ": cannot write dataset");
+}
+
+template <class T>
+std::vector<T> read_dataset(hid_t file, const std::string& name, hid_t mem_type, std::vector<std::uint64_t>* dims,
+                            const std::string& path) {
+  Handle ds(H5Dopen2(file, name.c_str(), H5P_DEFAULT));
+  if (ds.id < 0) throw InputError(path + ": " + name + ": missing dataset");
+  Handle space(H5Dget_space(ds.id));
+  int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 0) throw InputError(path + ": " + name + ": unreadable dataspace");
+  std::vector<hsize_t> hd(static_cast<std::size_t>(rank));
+  H5Sget_simple_extent_dims(space.id, hd.data(), nullptr);
+  hsize_t n = 1;
+  for (auto d : hd) n *= d;
+  std::vector<T> out(n);
+  if (n > 0 && H5Dread(ds.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    throw InputError(path + ": " + name + ": cannot read dataset (wrong type or corrupt)");
+  if (dims) dims->assign(hd.begin(), hd.end());
+  return out;
+}
+}  // namespace
+
+void H5File::write(const std::string& dataset, const std::vector<double>& data, std::vector<std::uint64_t> dims,
+                   const std::string& unit) {
+  write_dataset(id_, dataset, data, std::move(dims), H5T_NATIVE_DOUBLE, path_);
+  if (!unit.empty()) set_attribute(dataset, "unit", unit);
+}
+
+void H5File::write(const std::string& dataset, const std::vector<std::int64_t>& data,
+                   std::vector<std::uint64_t> dims, const std::string& unit) {
+  write_dataset(id_, dataset, data, std::move(dims), H5T_NATIVE_INT64, path_);
+  if (!unit.empty()) set_attribute(dataset, "unit", unit);
+}
+
+void H5File::write(const std::string& dataset, const std::vector<std::uint64_t>& data,
+                   std::vector<std::uint64_t> dims) {
+  write_dataset(id_, dataset, data, std::move(dims), H5T_NATIVE_UINT64, path_);
+}
+
+void H5File::write_string(const std::string& dataset, const std::string& text) {
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Handle space(H5Screate(H5S_SCALAR));
+  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
+  H5Pset_create_intermediate_group(lcpl.id, 1);
+  Handle ds(H5Dcreate2(id_, dataset.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
+  if (ds.id < 0) fail(dataset, "cannot create string dataset");
+  const char* p = text.c_str();
+  if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) fail(dataset, "cannot write string");
+}
+
+std::vector<double> H5File::read_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims) const {
+  return read_dataset<double>(id_, dataset, H5T_NATIVE_DOUBLE, dims, path_);
+}
+std::vector<std::int64_t> H5File::read_ints(const std::string& dataset, std::vector<std::uint64_t>* dims) const {
+  return read_dataset<std::int64_t>(id_, dataset, H5T_NATIVE_INT64, dims, path_);
+}
+std::vector<std::uint64_t> H5File::read_uints(const std::string& dataset) const {
+  return read_dataset<std::uint64_t>(id_, dataset, H5T_NATIVE_UINT64, nullptr, path_);
+}
+
+std::string H5File::read_string(const std::string& dataset) const {
+  Handle ds(H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT));
+  if (ds.id < 0) fail(dataset, "missing dataset");
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  char* p = nullptr;
+  if (H5Dread(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0 || !p) fail(dataset, "not a string");
+  std::string s(p);
+  H5free_memory(p);
+  return s;
+}
+
+namespace {
+hid_t open_object(hid_t file, const std::string& path) { return H5Oopen(file, path.c_str(), H5P_DEFAULT); }
+}  // namespace
+
+void H5File::set_attribute(const std::string& object_path, const std::string& name, const std::string& value) {
+  ensure_group(object_path);
+  Handle obj(open_object(id_, object_path));
+  if (obj.id < 0) fail(object_path, "no such object");
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type.id, value.size() + 1);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Handle space(H5Screate(H5S_SCALAR));
+  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
+  Handle a(H5Acreate2(obj.id, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT));
+  if (a.id < 0 || H5Awrite(a.id, type.id, value.c_str()) < 0) fail(object_path, "cannot write attribute " + name);
+}
+
+namespace {
+template <class T>
+void set_numeric_attribute(hid_t file, const std::string& object_path, const std::string& name, T value,
+                           hid_t type, const std::string& path) {
+  Handle obj(H5Oopen(file, object_path.c_str(), H5P_DEFAULT));
+  if (obj.id < 0) throw InputError(path + ": " + object_path + ": no such object");
+  Handle space(H5Screate(H5S_SCALAR));
+  if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
+  Handle a(H5Acreate2(obj.id, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT));
+  if (a.id < 0 || H5Awrite(a.id, type, &value) < 0)
+    throw InputError(path + ": " + object_path + ": cannot write attribute " + name);
+}
+
+template <class T>
+T get_numeric_attribute(hid_t file, const std::string& object_path, const std::string& name, hid_t type,
+                        const std::string& path) {
+  Handle obj(H5Oopen(file, object_path.c_str(), H5P_DEFAULT));
+  if (obj.id < 0) throw InputError(path + ": " + object_path + ": no such object");
+  Handle a(H5Aopen(obj.id, name.c_str(), H5P_DEFAULT));
+  if (a.id < 0) throw InputError(path + ": " + object_path + ": missing attribute " + name);
+  T v{};
+  if (H5Aread(a.id, type, &v) < 0) throw InputError(path + ": " + object_path + ": attribute " + name + " has the wrong type");
+  return v;
+}
+}  // namespace
+
+void H5File::set_attribute(const std::string& object_path, const std::string& name, double value) {
+  ensure_group(object_path);
+  set_numeric_attribute(id_, object_path, name, value, H5T_NATIVE_DOUBLE, path_);
+}
+void H5File::set_attribute(const std::string& object_path, const std::string& name, std::int64_t value) {
+  ensure_group(object_path);
+  set_numeric_attribute(id_, object_path, name, value, H5T_NATIVE_INT64, path_);
+}
+double H5File::attribute_double(const std::string& object_path, const std::string& name) const {
+  return get_numeric_attribute<double>(id_, object_path, name, H5T_NATIVE_DOUBLE, path_);
+}
+std::int64_t H5File::attribute_int(const std::string& object_path, const std::string& name) const {
+  return get_numeric_attribute<std::int64_t>(id_, object_path, name, H5T_NATIVE_INT64, path_);
+}
+
+std::string H5File::attribute_string(const std::string& object_path, const std::string& name) const {
+  Handle obj(H5Oopen(id_, object_path.c_str(), H5P_DEFAULT));
+  if (obj.id < 0) fail(object_path, "no such object");
+  Handle a(H5Aopen(obj.id, name.c_str(), H5P_DEFAULT));
+  if (a.id < 0) fail(object_path, "missing attribute " + name);
+  Handle type(H5Aget_type(a.id));
+  if (H5Tget_class(type.id) != H5T_STRING) fail(object_path, "attribute " + name + " is not a string");
+  const std::size_t n = H5Tget_size(type.id);
+  std::string s(n, '\0');
+  if (H5Aread(a.id, type.id, s.data()) < 0) fail(object_path, "cannot read attribute " + name);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+}  // namespace pilelab

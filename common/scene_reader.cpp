@@ -1,0 +1,178 @@
+#include "common/scene_reader.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+
+namespace pilelab {
+
+std::string Range::describe() const {
+  std::ostringstream s;
+  s.precision(10);
+  const bool lo_inf = std::isinf(lo), hi_inf = std::isinf(hi);
+  if (!lo_inf && !hi_inf) s << lo << (lo_open ? " < " : " <= ") << "value <= " << hi;
+  else if (!lo_inf) s << "value " << (lo_open ? "> " : ">= ") << lo;
+  else if (!hi_inf) s << "value <= " << hi;
+  else s << "any finite number";
+  return s.str();
+}
+
+SceneReader::SceneReader(const std::string& text, std::string source)
+    : text_(text), source_(std::move(source)) {
+  try {
+    root_ = toml::parse(text_, source_);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    s << source_ << ":" << e.source().begin.line << ":" << e.source().begin.column
+      << ": not valid TOML: " << e.description();
+    throw InputError(s.str());
+  }
+}
+
+SceneReader SceneReader::from_file(const std::string& path) {
+  return SceneReader(read_text_file(path), path);
+}
+
+const toml::node* SceneReader::find(std::string_view key) const {
+  return root_.at_path(key).node();
+}
+
+bool SceneReader::has(std::string_view key) const { return find(key) != nullptr; }
+
+void SceneReader::fail(std::string_view key, const std::string& what) const {
+  throw InputError(source_ + ": " + std::string(key) + ": " + what);
+}
+
+double SceneReader::get_double(std::string_view key, double fallback, Range range) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  double v;
+  if (auto d = n->value_exact<double>()) v = *d;
+  else if (auto i = n->value_exact<std::int64_t>()) v = static_cast<double>(*i);
+  else fail(key, "expected a number");
+  if (!std::isfinite(v)) fail(key, "expected a finite number");
+  if (!range.contains(v)) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v << " is out of range: expected " << range.describe();
+    fail(key, s.str());
+  }
+  return v;
+}
+
+double SceneReader::require_double(std::string_view key, Range range) {
+  if (!find(key)) {
+    asked_.insert(std::string(key));
+    fail(key, "missing: a number with " + range.describe() + " is required");
+  }
+  return get_double(key, 0.0, range);
+}
+
+std::int64_t SceneReader::get_int(std::string_view key, std::int64_t fallback, std::int64_t lo,
+                                  std::int64_t hi) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  auto i = n->value_exact<std::int64_t>();
+  if (!i) fail(key, "expected an integer");
+  if (*i < lo || *i > hi)
+    fail(key, std::to_string(*i) + " is out of range: expected " + std::to_string(lo) +
+                  " <= value <= " + std::to_string(hi));
+  return *i;
+}
+
+bool SceneReader::get_bool(std::string_view key, bool fallback) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  auto b = n->value_exact<bool>();
+  if (!b) fail(key, "expected true or false");
+  return *b;
+}
+
+std::string SceneReader::get_string(std::string_view key, const std::string& fallback) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  auto s = n->value_exact<std::string>();
+  if (!s) fail(key, "expected a string");
+  return *s;
+}
+
+std::string SceneReader::get_choice(std::string_view key, const std::string& fallback,
+                                    const std::vector<std::string>& choices) {
+  const std::string v = get_string(key, fallback);
+  for (const auto& c : choices)
+    if (c == v) return v;
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  fail(key, "\"" + v + "\" is not one of " + list);
+}
+
+std::vector<double> SceneReader::get_double_list(std::string_view key,
+                                                 const std::vector<double>& fallback, Range range) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  const toml::array* a = n->as_array();
+  if (!a) fail(key, "expected an array of numbers");
+  std::vector<double> out;
+  for (const auto& e : *a) {
+    double v;
+    if (auto d = e.value_exact<double>()) v = *d;
+    else if (auto i = e.value_exact<std::int64_t>()) v = static_cast<double>(*i);
+    else fail(key, "expected an array of numbers");
+    if (!std::isfinite(v) || !range.contains(v)) {
+      std::ostringstream s;
+      s << "element " << v << " is out of range: expected " << range.describe();
+      fail(key, s.str());
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
+namespace {
+void collect_leaves(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
+  for (const auto& [k, v] : t) {
+    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    if (const toml::table* sub = v.as_table()) collect_leaves(*sub, path, out);
+    else out.push_back(path);
+  }
+}
+}  // namespace
+
+void SceneReader::reject_unknown(const std::vector<std::string>& tables_to_check,
+                                 const std::vector<std::string>& known_tables) const {
+  for (const auto& [k, v] : root_) {
+    const std::string name(k.str());
+    bool known = false;
+    for (const auto& t : known_tables) known = known || (t == name);
+    if (!known) {
+      std::string list;
+      for (const auto& t : known_tables) list += (list.empty() ? "[" : "], [") + t;
+      throw InputError(source_ + ": unknown top-level key or table '" + name + "' (known: " + list + "])");
+    }
+  }
+  std::vector<std::string> leaves;
+  collect_leaves(root_, "", leaves);
+  for (const auto& leaf : leaves) {
+    const std::string top = leaf.substr(0, leaf.find('.'));
+    bool checked = false;
+    for (const auto& t : tables_to_check) checked = checked || (t == top);
+    if (!checked || asked_.count(leaf)) continue;
+    // Name the keys that would have been accepted in the same table, to make typos obvious.
+    const std::string table = leaf.substr(0, leaf.rfind('.'));
+    std::string known;
+    for (const auto& a : asked_)
+      if (a.rfind(table + ".", 0) == 0 && a.find('.', table.size() + 1) == std::string::npos)
+        known += (known.empty() ? "" : ", ") + a.substr(table.size() + 1);
+    throw InputError(source_ + ": unknown key '" + leaf + "'" +
+                     (known.empty() ? std::string(" (no such table)") : " (known keys in [" + table + "]: " + known + ")"));
+  }
+}
+
+}  // namespace pilelab

@@ -1,0 +1,224 @@
+#include "dem/convex_overlap.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace pilelab::dem {
+
+namespace {
+
+// The owner of the overlap polygon's edge that leaves a vertex: a piece of a's boundary, of
+// b's boundary, or of both (collinear edges).
+enum Owner : int { owner_a = 0, owner_b = 1, owner_both = 2 };
+
+struct ClipVertex {
+  Vec2 p;
+  int owner;
+};
+
+constexpr int max_clip = 2 * max_polygon_corners + 4;
+using ClipPolygon = std::array<ClipVertex, max_clip>;
+
+// The outward normal of edge e of a counter-clockwise polygon, scaled by the edge length.
+inline Vec2 outward(const Vec2& e) { return {e.y(), -e.x()}; }
+
+Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centroid_a, const Vec2& centroid_b) {
+  Overlap o;
+  // Drop zero-length edges, so that a vertex of one polygon lying exactly on the other's
+  // boundary does not count as two crossings.
+  std::array<ClipVertex, max_clip> w;
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const ClipVertex& next = v[(i + 1) % n];
+    if ((next.p - v[i].p).norm() > length_tol) w[m++] = v[i];
+  }
+  if (m < 3) return o;
+
+  double a2 = 0.0, cx = 0.0, cy = 0.0;
+  Vec2 s_a(0, 0), s_b(0, 0), crossing_sum(0, 0);
+  Vec2 first_crossing(0, 0), second_crossing(0, 0);
+  for (int i = 0; i < m; ++i) {
+    const Vec2& p = w[i].p;
+    const Vec2& q = w[(i + 1) % m].p;
+    const double c = cross(p, q);
+    a2 += c;
+    cx += (p.x() + q.x()) * c;
+    cy += (p.y() + q.y()) * c;
+    if (w[i].owner == owner_a) s_a += outward(q - p);
+    if (w[i].owner == owner_b) s_b += outward(q - p);
+    const int incoming = w[(i + m - 1) % m].owner;
+    if (incoming != w[i].owner) {
+      if (o.crossings == 0) first_crossing = p;
+      if (o.crossings == 1) second_crossing = p;
+      ++o.crossings;
+      crossing_sum += p;
+    }
+  }
+  const double area = 0.5 * a2;
+  if (!(area > 0.0)) return o;
+  o.area = area;
+  const Vec2 centroid(cx / (3.0 * a2), cy / (3.0 * a2));
+  const Vec2 s = s_a - s_b;
+  const double s_norm = s.norm();
+  o.chord = 0.5 * s_norm;
+  if (s_norm > length_tol) {
+    o.normal = s / s_norm;
+  } else {
+    // Nested or identical shapes: no chord; push apart along the line of centres.
+    const Vec2 d = centroid_b - centroid_a;
+    o.normal = d.norm() > length_tol ? Vec2(d / d.norm()) : Vec2(0.0, 1.0);
+    o.chord = 0.0;
+  }
+  o.point = (o.crossings == 2) ? Vec2(0.5 * (first_crossing + second_crossing)) : centroid;
+  return o;
+}
+
+}  // namespace
+
+Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                         const Vec2& centroid_b) {
+  // Sutherland-Hodgman: clip a by each edge's half-plane of b, recording for every output
+  // vertex whose boundary its outgoing edge follows.
+  ClipPolygon buf[2];
+  int n = na;
+  double scale = 0.0;
+  for (int i = 0; i < na; ++i) {
+    buf[0][i] = {a[i], owner_a};
+    scale = std::max(scale, (a[(i + 1) % na] - a[i]).squaredNorm());
+  }
+  for (int k = 0; k < nb; ++k) scale = std::max(scale, (b[(k + 1) % nb] - b[k]).squaredNorm());
+  const double length_tol = 1e-12 * std::sqrt(scale);
+
+  int cur = 0;
+  for (int k = 0; k < nb && n > 0; ++k) {
+    const Vec2& e0 = b[k];
+    const Vec2 d = b[(k + 1) % nb] - e0;
+    // side(p) = cross(d, p - e0) = |d| * signed distance of p from the edge line (left: inside).
+    const double side_tol = length_tol * d.norm();
+    const ClipVertex* in = buf[cur].data();
+    ClipVertex* out = buf[1 - cur].data();
+    int m = 0;
+    double s_here = cross(d, in[0].p - e0);
+    if (std::abs(s_here) <= side_tol) s_here = 0.0;
+    const double s_first = s_here;
+    for (int i = 0; i < n; ++i) {
+      const ClipVertex& s_v = in[i];
+      const ClipVertex& e_v = in[(i + 1) % n];
+      double s_next = (i + 1 == n) ? s_first : cross(d, e_v.p - e0);
+      if (std::abs(s_next) <= side_tol) s_next = 0.0;
+      const bool s_in = s_here >= 0.0, e_in = s_next >= 0.0;
+      if (s_in) out[m++] = {s_v.p, (s_here == 0.0 && s_next == 0.0) ? int(owner_both) : s_v.owner};
+      if (s_in != e_in) {
+        // The signs differ strictly on one side, so the denominator is never zero.
+        const double t = s_here / (s_here - s_next);
+        const Vec2 x = s_v.p + t * (e_v.p - s_v.p);
+        out[m++] = {x, s_in ? int(owner_b) : s_v.owner};
+      }
+      s_here = s_next;
+    }
+    n = m;
+    cur = 1 - cur;
+  }
+  if (n < 3) return {};
+  return finish(buf[cur].data(), n, length_tol, centroid_a, centroid_b);
+}
+
+Overlap overlap_discs(const Vec2& ca, double ra, const Vec2& cb, double rb) {
+  Overlap o;
+  const Vec2 d = cb - ca;
+  const double dist = d.norm();
+  if (dist >= ra + rb) return o;
+  o.normal = dist > 1e-12 * (ra + rb) ? Vec2(d / dist) : Vec2(0.0, 1.0);
+  const double r_small = std::min(ra, rb);
+  if (dist <= std::abs(ra - rb)) {  // one disc inside the other
+    o.area = M_PI * r_small * r_small;
+    o.chord = 0.0;
+    o.point = ra < rb ? ca : cb;
+    return o;
+  }
+  // Distance from ca to the chord, and the half-chord.
+  const double x = (dist * dist + ra * ra - rb * rb) / (2.0 * dist);
+  const double h = std::sqrt(std::max(0.0, ra * ra - x * x));
+  // Lens area: two circular segments.
+  const double seg_a = ra * ra * std::acos(std::clamp(x / ra, -1.0, 1.0)) - x * h;
+  const double xb = dist - x;
+  const double seg_b = rb * rb * std::acos(std::clamp(xb / rb, -1.0, 1.0)) - xb * h;
+  o.area = seg_a + seg_b;
+  o.chord = 2.0 * h;
+  o.point = ca + x * o.normal;
+  o.crossings = 2;
+  return o;
+}
+
+namespace {
+// Signed area of the intersection of the disc (centred at the origin, radius r) with the
+// triangle (origin, p, q): the standard decomposition of a circle-polygon intersection.
+double disc_triangle_area(Vec2 p, Vec2 q, double r) {
+  const double r2 = r * r;
+  const Vec2 d = q - p;
+  const double a = d.squaredNorm();
+  if (a == 0.0) return 0.0;
+  const double b = p.dot(d), c = p.squaredNorm() - r2;
+  const double disc = b * b - a * c;
+  auto sector = [&](const Vec2& u, const Vec2& v) { return 0.5 * r2 * std::atan2(cross(u, v), u.dot(v)); };
+  auto triangle = [&](const Vec2& u, const Vec2& v) { return 0.5 * cross(u, v); };
+  if (disc <= 0.0) return sector(p, q);  // the segment's line misses the circle
+  const double sq = std::sqrt(disc);
+  const double t0 = std::clamp((-b - sq) / a, 0.0, 1.0), t1 = std::clamp((-b + sq) / a, 0.0, 1.0);
+  const Vec2 u = p + t0 * d, v = p + t1 * d;
+  return sector(p, u) + triangle(u, v) + sector(v, q);
+}
+}  // namespace
+
+Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, const Vec2& centroid_b) {
+  Overlap o;
+  double area = 0.0, scale = r * r;
+  for (int k = 0; k < nb; ++k) {
+    area += disc_triangle_area(b[k] - c, b[(k + 1) % nb] - c, r);
+    scale = std::max(scale, (b[(k + 1) % nb] - b[k]).squaredNorm());
+  }
+  if (!(area > 0.0)) return o;
+  const double length_tol = 1e-12 * std::sqrt(scale);
+  // The polygon's boundary inside the disc: its outward-normal integral S_b, and the points
+  // where the boundary crosses the circle.
+  Vec2 s_b(0, 0), crossing_sum(0, 0);
+  Vec2 crossing[2];
+  int crossings = 0;
+  for (int k = 0; k < nb; ++k) {
+    const Vec2 p = b[k] - c, d = b[(k + 1) % nb] - b[k];
+    const double a = d.squaredNorm(), bb = p.dot(d), cc = p.squaredNorm() - r * r;
+    const double disc = bb * bb - a * cc;
+    if (disc <= 0.0) continue;
+    const double sq = std::sqrt(disc);
+    const double t_in = (-bb - sq) / a, t_out = (-bb + sq) / a;
+    const double t0 = std::max(t_in, 0.0), t1 = std::min(t_out, 1.0);
+    if (t1 <= t0) continue;
+    s_b += outward((t1 - t0) * d);
+    for (double t : {t_in, t_out})
+      if (t >= 0.0 && t < 1.0) {
+        if (crossings < 2) crossing[crossings] = c + p + t * d;
+        crossing_sum += c + p + t * d;
+        ++crossings;
+      }
+  }
+  o.area = area;
+  o.crossings = crossings;
+  const double s_norm = s_b.norm();
+  if (s_norm > length_tol) {
+    // S_b points out of the polygon, towards the disc: the normal from disc to polygon is -S_b.
+    o.normal = -s_b / s_norm;
+    o.chord = s_norm;
+  } else {
+    const Vec2 d = centroid_b - c;
+    o.normal = d.norm() > length_tol ? Vec2(d / d.norm()) : Vec2(0.0, 1.0);
+  }
+  if (crossings == 2) {
+    o.point = 0.5 * (crossing[0] + crossing[1]);
+  } else {
+    o.point = crossings > 0 ? Vec2(crossing_sum / crossings) : c;
+  }
+  return o;
+}
+
+}  // namespace pilelab::dem

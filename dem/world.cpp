@@ -1,0 +1,332 @@
+#include "dem/world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "dem/convex_overlap.h"
+
+namespace pilelab::dem {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+std::uint64_t pair_key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
+}  // namespace
+
+World::World(const WorldSettings& settings) : settings_(settings) {}
+
+int World::add_wall(const Shape& shape, const Vec2& position, double angle, const Vec2& velocity) {
+  if (static_cast<int>(shapes_.size()) != wall_count_)
+    throw std::logic_error("World: walls must be added before grains");
+  const int id = body_count();
+  shapes_.push_back(shape);
+  mass_.push_back(INFINITY);
+  inertia_.push_back(INFINITY);
+  inv_mass_.push_back(0.0);
+  inv_inertia_.push_back(0.0);
+  active_.push_back(1);
+  motion_.resize(shapes_.size());
+  contact_force_.resize(3 * shapes_.size(), 0.0);
+  accel_.resize(3 * shapes_.size(), 0.0);
+  vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
+  world_vertices_.resize(vertex_offset_.back());
+  motion_.d[0][3 * id] = position.x();
+  motion_.d[0][3 * id + 1] = position.y();
+  motion_.d[0][3 * id + 2] = angle;
+  motion_.d[1][3 * id] = velocity.x();
+  motion_.d[1][3 * id + 1] = velocity.y();
+  if (velocity.squaredNorm() > 0) moving_walls_.push_back(id);
+  ++wall_count_;
+  place_body(id);
+  return id;
+}
+
+int World::add_grain(const Shape& shape, double areal_density) {
+  if (static_cast<int>(shape.vertices.size()) > max_polygon_corners)
+    throw std::invalid_argument("World: grains have at most 64 corners");
+  const int id = body_count();
+  shapes_.push_back(shape);
+  const double m = areal_density * shape.area, inertia = areal_density * shape.polar_moment;
+  mass_.push_back(m);
+  inertia_.push_back(inertia);
+  inv_mass_.push_back(1.0 / m);
+  inv_inertia_.push_back(1.0 / inertia);
+  active_.push_back(0);
+  motion_.resize(shapes_.size());
+  contact_force_.resize(3 * shapes_.size(), 0.0);
+  accel_.resize(3 * shapes_.size(), 0.0);
+  vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
+  world_vertices_.resize(vertex_offset_.back());
+  max_grain_radius_ = std::max(max_grain_radius_, shape.bounding_radius);
+  return id;
+}
+
+void World::activate(int body, const Vec2& position, double angle, const Vec2& velocity, double angular_velocity) {
+  if (is_wall(body) || active_[body]) throw std::logic_error("World::activate: not an inactive grain");
+  for (auto& d : motion_.d) std::fill_n(d.begin() + 3 * body, 3, 0.0);
+  motion_.d[0][3 * body] = position.x();
+  motion_.d[0][3 * body + 1] = position.y();
+  motion_.d[0][3 * body + 2] = angle;
+  motion_.d[1][3 * body] = velocity.x();
+  motion_.d[1][3 * body + 1] = velocity.y();
+  motion_.d[1][3 * body + 2] = angular_velocity;
+  // Start with the free-flight acceleration so the first predictor step is consistent.
+  motion_.d[2][3 * body] = settings_.gravity.x();
+  motion_.d[2][3 * body + 1] = settings_.gravity.y();
+  active_[body] = 1;
+  active_grains_.insert(std::upper_bound(active_grains_.begin(), active_grains_.end(), body), body);
+  place_body(body);
+}
+
+void World::deactivate(int body) {
+  if (is_wall(body) || !active_[body]) return;
+  active_[body] = 0;
+  active_grains_.erase(std::lower_bound(active_grains_.begin(), active_grains_.end(), body));
+  contacts_.erase(std::remove_if(contacts_.begin(), contacts_.end(),
+                                 [&](const Contact& c) { return c.a == body || c.b == body; }),
+                  contacts_.end());
+}
+
+void World::restore_activity(const std::vector<std::uint8_t>& active) {
+  active_ = active;
+  active_grains_.clear();
+  for (int i = wall_count_; i < body_count(); ++i)
+    if (active_[i]) active_grains_.push_back(i);
+  for (int i = 0; i < body_count(); ++i)
+    if (active_[i]) place_body(i);
+}
+
+void World::place_body(int body) {
+  const Shape& s = shapes_[body];
+  if (s.vertices.empty()) return;
+  const double th = motion_.d[0][3 * body + 2];
+  const double c = std::cos(th), sn = std::sin(th);
+  const Vec2 p(motion_.d[0][3 * body], motion_.d[0][3 * body + 1]);
+  Vec2* out = &world_vertices_[vertex_offset_[body]];
+  for (std::size_t k = 0; k < s.vertices.size(); ++k) out[k] = p + rotate(s.vertices[k], c, sn);
+}
+
+void World::step() {
+  const double dt = settings_.time_step;
+  auto t0 = Clock::now();
+  predict(settings_.scheme, motion_, active_grains_, dt);
+  for (int w : moving_walls_)  // prescribed motion: x += v dt
+    for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
+  auto t1 = Clock::now();
+  profile_.predict += std::chrono::duration<double>(t1 - t0).count();
+
+  place_shapes();
+  auto t2 = Clock::now();
+  profile_.geometry += std::chrono::duration<double>(t2 - t1).count();
+
+  find_candidate_pairs();
+  auto t3 = Clock::now();
+  profile_.broad_phase += std::chrono::duration<double>(t3 - t2).count();
+
+  collide_and_compute_forces();
+  auto t4 = Clock::now();
+  profile_.narrow_phase += std::chrono::duration<double>(t4 - t3).count();
+
+  // Newton (paper eq. 1): contact forces plus gravity.
+  for (int i : active_grains_) {
+    accel_[3 * i] = contact_force_[3 * i] * inv_mass_[i] + settings_.gravity.x();
+    accel_[3 * i + 1] = contact_force_[3 * i + 1] * inv_mass_[i] + settings_.gravity.y();
+    accel_[3 * i + 2] = contact_force_[3 * i + 2] * inv_inertia_[i];
+  }
+  correct(settings_.scheme, motion_, accel_, active_grains_, dt);
+  time_ += dt;
+  ++steps_;
+  check_finite();
+  profile_.correct += seconds_since(t4);
+}
+
+void World::check_finite() const {
+  for (int i : active_grains_)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(motion_.d[0][3 * i + c]) || !std::isfinite(motion_.d[1][3 * i + c])) {
+        std::ostringstream s;
+        s << "the simulation became unstable at t = " << time_ << " s (step " << steps_ << "): grain " << i
+          << " has a non-finite position or velocity; the time step " << settings_.time_step
+          << " s is probably too large for the contact stiffness";
+        throw std::runtime_error(s.str());
+      }
+}
+
+void World::place_shapes() {
+  for (int i : active_grains_) place_body(i);
+  for (int w : moving_walls_) place_body(w);
+}
+
+void World::find_candidate_pairs() {
+  candidates_.clear();
+  // Walls against grains: bounding box of the wall against the grain's bounding circle. Walls
+  // have the lowest indices, so these keys come first and in order.
+  for (int w = 0; w < wall_count_; ++w) {
+    Vec2 lo, hi;
+    const Shape& s = shapes_[w];
+    if (s.kind == ShapeKind::disc) {
+      lo = position(w) - Vec2(s.radius, s.radius);
+      hi = position(w) + Vec2(s.radius, s.radius);
+    } else {
+      lo = hi = corners(w)[0];
+      for (int k = 1; k < corner_count(w); ++k) {
+        lo = lo.cwiseMin(corners(w)[k]);
+        hi = hi.cwiseMax(corners(w)[k]);
+      }
+    }
+    for (int i : active_grains_) {
+      const double r = shapes_[i].bounding_radius;
+      const double x = motion_.d[0][3 * i], y = motion_.d[0][3 * i + 1];
+      if (x + r >= lo.x() && x - r <= hi.x() && y + r >= lo.y() && y - r <= hi.y()) candidates_.push_back(pair_key(w, i));
+    }
+  }
+  if (active_grains_.empty()) return;
+
+  // Grains against grains: a cell list with cells no smaller than the largest bounding
+  // diameter, so any two touching grains sit in the same or adjacent cells: O(N) per step, and
+  // rebuilt every step, so a pair is never missed however fast grains move.
+  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+  for (int i : active_grains_) {
+    xmin = std::min(xmin, motion_.d[0][3 * i]);
+    xmax = std::max(xmax, motion_.d[0][3 * i]);
+    ymin = std::min(ymin, motion_.d[0][3 * i + 1]);
+    ymax = std::max(ymax, motion_.d[0][3 * i + 1]);
+  }
+  double h = 2.0 * max_grain_radius_;
+  // Keep the grid no larger than a few cells per grain, whatever the spread of the grains.
+  const double max_cells = 4.0 * static_cast<double>(active_grains_.size()) + 1024.0;
+  while (((xmax - xmin) / h + 1.0) * ((ymax - ymin) / h + 1.0) > max_cells) h *= 2.0;
+  const int nx = static_cast<int>((xmax - xmin) / h) + 1, ny = static_cast<int>((ymax - ymin) / h) + 1;
+  const int ncells = nx * ny;
+  cell_start_.assign(ncells + 1, 0);
+  body_cell_.resize(body_count());
+  for (int i : active_grains_) {
+    const int cx = static_cast<int>((motion_.d[0][3 * i] - xmin) / h);
+    const int cy = static_cast<int>((motion_.d[0][3 * i + 1] - ymin) / h);
+    body_cell_[i] = cy * nx + cx;
+    ++cell_start_[body_cell_[i] + 1];
+  }
+  for (int c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_bodies_.resize(active_grains_.size());
+  {
+    std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (int i : active_grains_) cell_bodies_[fill[body_cell_[i]]++] = i;  // ascending within a cell
+  }
+  for (int i : active_grains_) {
+    const std::size_t first = candidates_.size();
+    const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
+    const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius;
+    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
+      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x) {
+        const int c = y * nx + x;
+        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+          const int j = cell_bodies_[k];
+          if (j <= i) continue;
+          const double dx = motion_.d[0][3 * j] - xi, dy = motion_.d[0][3 * j + 1] - yi;
+          const double r = ri + shapes_[j].bounding_radius;
+          if (dx * dx + dy * dy < r * r) candidates_.push_back(pair_key(i, j));
+        }
+      }
+    std::sort(candidates_.begin() + first, candidates_.end());
+  }
+}
+
+void World::collide_and_compute_forces() {
+  const std::size_t n = candidates_.size();
+  scratch_contacts_.resize(n);
+  touching_.assign(n, 0);
+  // Carry the spring history of contacts that persist (both lists are sorted by key).
+  {
+    std::size_t k = 0;
+    for (std::size_t c = 0; c < n; ++c) {
+      while (k < contacts_.size() && contacts_[k].key() < candidates_[c]) ++k;
+      scratch_contacts_[c].spring = (k < contacts_.size() && contacts_[k].key() == candidates_[c]) ? contacts_[k].spring : 0.0;
+    }
+  }
+  const ContactParameters& law = settings_.contact;
+  const double dt = settings_.time_step;
+
+  // Each candidate pair is independent: collide and evaluate the contact law in parallel.
+#pragma omp parallel for schedule(static)
+  for (std::size_t c = 0; c < n; ++c) {
+    const int a = static_cast<int>(candidates_[c] >> 32), b = static_cast<int>(candidates_[c] & 0xffffffffu);
+    const Shape& sa = shapes_[a];
+    const Shape& sb = shapes_[b];
+    const Vec2 pa = position(a), pb = position(b);
+    Overlap o;
+    if (sa.kind == ShapeKind::polygon && sb.kind == ShapeKind::polygon) {
+      o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb);
+    } else if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc) {
+      o = overlap_discs(pa, sa.radius, pb, sb.radius);
+    } else if (sa.kind == ShapeKind::disc) {
+      o = overlap_disc_polygon(pa, sa.radius, corners(b), corner_count(b), pb);
+    } else {
+      o = overlap_disc_polygon(pb, sb.radius, corners(a), corner_count(a), pa);
+      o.normal = -o.normal;
+    }
+    if (!o.touching()) continue;
+
+    const Vec2 ra = o.point - pa, rb = o.point - pb;
+    const Vec2 ua = velocity(a) + cross(angular_velocity(a), ra);
+    const Vec2 ub = velocity(b) + cross(angular_velocity(b), rb);
+    const Vec2 t = perp(o.normal);
+    ContactKinematics k;
+    k.area = o.area;
+    k.chord = o.chord;
+    // Walls are far larger than grains: their lever (to the wall's own centroid) is long and the
+    // contact length tends to the grain's lever, as the paper's formula gives for r_j -> inf.
+    k.lever_a = std::max(ra.norm(), 0.5 * sa.inner_radius);
+    k.lever_b = std::max(rb.norm(), 0.5 * sb.inner_radius);
+    k.approach_speed = o.normal.dot(ua - ub);
+    k.slip_speed = t.dot(ua - ub);
+    k.normal_mass = 1.0 / (inv_mass_[a] + inv_mass_[b]);
+    k.tangential_mass = 1.0 / (inv_mass_[a] + inv_mass_[b] + ra.squaredNorm() * inv_inertia_[a] +
+                               rb.squaredNorm() * inv_inertia_[b]);
+    const double l = contact_length(law, k.lever_a, k.lever_b);
+    const ContactForce f = dem::contact_force(law, k, l, scratch_contacts_[c].spring, dt);
+
+    Contact& out = scratch_contacts_[c];
+    out.a = a;
+    out.b = b;
+    out.spring = f.spring;
+    out.point = o.point;
+    out.normal = o.normal;
+    out.normal_force = f.normal;
+    out.tangential_force = f.tangential;
+    out.area = o.area;
+    out.chord = o.chord;
+    touching_[c] = 1;
+  }
+
+  // Gather: sum forces and torques on bodies in pair order (deterministic whatever the threads).
+  std::fill(contact_force_.begin(), contact_force_.end(), 0.0);
+  contacts_.clear();
+  for (std::size_t c = 0; c < n; ++c) {
+    if (!touching_[c]) continue;
+    const Contact& ct = scratch_contacts_[c];
+    contacts_.push_back(ct);
+    const Vec2 f = ct.force_on_b();
+    const Vec2 ra = ct.point - position(ct.a), rb = ct.point - position(ct.b);
+    contact_force_[3 * ct.a] -= f.x();
+    contact_force_[3 * ct.a + 1] -= f.y();
+    contact_force_[3 * ct.a + 2] -= cross(ra, f);
+    contact_force_[3 * ct.b] += f.x();
+    contact_force_[3 * ct.b + 1] += f.y();
+    contact_force_[3 * ct.b + 2] += cross(rb, f);
+  }
+}
+
+double World::kinetic_energy() const {
+  double e = 0.0;
+  for (int i : active_grains_) {
+    const Vec2 v = velocity(i);
+    const double w = angular_velocity(i);
+    e += 0.5 * mass_[i] * v.squaredNorm() + 0.5 * inertia_[i] * w * w;
+  }
+  return e;
+}
+
+}  // namespace pilelab::dem

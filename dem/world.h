@@ -1,0 +1,131 @@
+#pragma once
+// The DEM world: bodies (walls first, then grains), their motion, the contacts with their
+// tangential history, and the step that advances them all by dt:
+//   predict -> place shapes -> find pairs -> collide and compute forces -> correct.
+#include <cstdint>
+#include <vector>
+
+#include "dem/contact_law.h"
+#include "dem/integrator.h"
+#include "dem/shape.h"
+#include "dem/vec2.h"
+
+namespace pilelab::dem {
+
+/// A contact between bodies a < b, with the spring history the contact law carries from step
+/// to step and the values of the last evaluation (for output and coarse-graining).
+struct Contact {
+  std::int32_t a = 0, b = 0;
+  double spring = 0.0;           ///< Cundall-Strack spring force [N]
+  Vec2 point{0, 0};              ///< force point [m]
+  Vec2 normal{0, 1};             ///< unit normal from a to b
+  double normal_force = 0.0;     ///< [N], on b along +normal
+  double tangential_force = 0.0; ///< [N], on b along +perp(normal)
+  double area = 0.0;             ///< overlap area [m^2]
+  double chord = 0.0;            ///< contact-line length [m]
+  std::uint64_t key() const { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
+  Vec2 force_on_b() const { return normal_force * normal + tangential_force * perp(normal); }
+};
+
+/// Wall-clock seconds spent in each phase of the step.
+struct StepProfile {
+  double predict = 0, geometry = 0, broad_phase = 0, narrow_phase = 0, correct = 0;
+  double total() const { return predict + geometry + broad_phase + narrow_phase + correct; }
+};
+
+struct WorldSettings {
+  ContactParameters contact;
+  Scheme scheme = Scheme::gear5;
+  double time_step = 1e-6;  ///< [s]
+  Vec2 gravity{0.0, -9.81}; ///< [m/s^2]
+};
+
+class World {
+ public:
+  explicit World(const WorldSettings& settings);
+
+  /// Walls: immobile (or moving at a prescribed velocity) bodies of any size. All walls must
+  /// be added before the first grain.
+  int add_wall(const Shape& shape, const Vec2& position, double angle, const Vec2& velocity = {0, 0});
+  /// Grains: mobile bodies with mass from the areal density [kg/m^2]; inactive until activated.
+  int add_grain(const Shape& shape, double areal_density);
+  /// Puts an inactive grain into the world with the given state.
+  void activate(int body, const Vec2& position, double angle, const Vec2& velocity, double angular_velocity);
+  /// Takes a grain out (e.g. it fell off the plate); its contacts disappear.
+  void deactivate(int body);
+
+  /// One time step.
+  void step();
+
+  // --- state access -------------------------------------------------------------------
+  int body_count() const { return static_cast<int>(shapes_.size()); }
+  int wall_count() const { return wall_count_; }
+  const Shape& shape(int body) const { return shapes_[body]; }
+  bool is_wall(int body) const { return body < wall_count_; }
+  bool is_active(int body) const { return active_[body] != 0; }
+  const std::vector<int>& active_grains() const { return active_grains_; }
+  Vec2 position(int body) const { return {motion_.d[0][3 * body], motion_.d[0][3 * body + 1]}; }
+  double angle(int body) const { return motion_.d[0][3 * body + 2]; }
+  Vec2 velocity(int body) const { return {motion_.d[1][3 * body], motion_.d[1][3 * body + 1]}; }
+  double angular_velocity(int body) const { return motion_.d[1][3 * body + 2]; }
+  double mass(int body) const { return mass_[body]; }
+  double inertia(int body) const { return inertia_[body]; }
+  /// Sum of contact forces and torque on a body from the last step (gravity excluded).
+  Vec2 contact_force(int body) const { return {contact_force_[3 * body], contact_force_[3 * body + 1]}; }
+  double contact_torque(int body) const { return contact_force_[3 * body + 2]; }
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  /// World-frame corners of a polygon body (after the last step).
+  const Vec2* corners(int body) const { return &world_vertices_[vertex_offset_[body]]; }
+  int corner_count(int body) const { return vertex_offset_[body + 1] - vertex_offset_[body]; }
+
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  const WorldSettings& settings() const { return settings_; }
+  void set_gravity(const Vec2& g) { settings_.gravity = g; }
+  const StepProfile& profile() const { return profile_; }
+  /// Candidate pairs examined in the last step (broad-phase output).
+  std::size_t candidate_count() const { return candidates_.size(); }
+
+  double kinetic_energy() const;  ///< of active grains, translation + rotation [J]
+
+  // --- checkpointing: the complete dynamic state ---------------------------------------
+  MotionState& motion() { return motion_; }
+  const MotionState& motion() const { return motion_; }
+  std::vector<Contact>& mutable_contacts() { return contacts_; }
+  void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
+  /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
+  void restore_activity(const std::vector<std::uint8_t>& active);
+  const std::vector<std::uint8_t>& activity() const { return active_; }
+
+ private:
+  void place_shapes();
+  void find_candidate_pairs();
+  void collide_and_compute_forces();
+  void place_body(int body);
+  void check_finite() const;
+
+  WorldSettings settings_;
+  int wall_count_ = 0;
+  std::vector<Shape> shapes_;
+  std::vector<double> mass_, inertia_, inv_mass_, inv_inertia_;
+  std::vector<std::uint8_t> active_;
+  std::vector<int> active_grains_;   // ascending
+  std::vector<int> moving_walls_;
+  MotionState motion_;
+  std::vector<double> contact_force_;  // 3 per body: fx, fy, torque
+  std::vector<double> accel_;
+  std::vector<int> vertex_offset_{0};
+  std::vector<Vec2> world_vertices_;
+  std::vector<std::uint64_t> candidates_;  // sorted pair keys
+  std::vector<Contact> contacts_;          // sorted by key
+  std::vector<Contact> scratch_contacts_;
+  std::vector<std::uint8_t> touching_;
+  // Broad-phase cell list.
+  std::vector<int> cell_start_, cell_bodies_, body_cell_;
+  double max_grain_radius_ = 0.0;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  StepProfile profile_;
+};
+
+}  // namespace pilelab::dem

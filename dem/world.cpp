@@ -81,6 +81,15 @@ void World::activate(int body, const Vec2& position, double angle, const Vec2& v
   place_body(body);
 }
 
+void World::set_wall_velocity(int wall, const Vec2& velocity) {
+  if (!is_wall(wall)) throw std::logic_error("World::set_wall_velocity: not a wall");
+  motion_.d[1][3 * wall] = velocity.x();
+  motion_.d[1][3 * wall + 1] = velocity.y();
+  moving_walls_.erase(std::remove(moving_walls_.begin(), moving_walls_.end(), wall), moving_walls_.end());
+  if (velocity.squaredNorm() > 0) moving_walls_.push_back(wall);
+  std::sort(moving_walls_.begin(), moving_walls_.end());
+}
+
 void World::deactivate(int body) {
   if (is_wall(body) || !active_[body]) return;
   active_[body] = 0;
@@ -95,6 +104,9 @@ void World::restore_activity(const std::vector<std::uint8_t>& active) {
   active_grains_.clear();
   for (int i = wall_count_; i < body_count(); ++i)
     if (active_[i]) active_grains_.push_back(i);
+  moving_walls_.clear();
+  for (int w = 0; w < wall_count_; ++w)
+    if (velocity(w).squaredNorm() > 0) moving_walls_.push_back(w);
   for (int i = 0; i < body_count(); ++i)
     if (active_[i]) place_body(i);
 }

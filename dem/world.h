@@ -51,6 +51,8 @@ class World {
   int add_grain(const Shape& shape, double areal_density);
   /// Puts an inactive grain into the world with the given state.
   void activate(int body, const Vec2& position, double angle, const Vec2& velocity, double angular_velocity);
+  /// Changes the prescribed velocity of a wall (e.g. a funnel that stops).
+  void set_wall_velocity(int wall, const Vec2& velocity);
   /// Takes a grain out (e.g. it fell off the plate); its contacts disappear.
   void deactivate(int body);
 

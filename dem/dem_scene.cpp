@@ -1,0 +1,75 @@
+#include "dem/dem_scene.h"
+
+#include "common/error.h"
+
+namespace pilelab::dem {
+
+DemScene read_dem_scene(SceneReader& r) {
+  DemScene s;
+  s.seed = static_cast<std::uint64_t>(r.get_int("dem.seed", 1, 0, INT64_MAX));
+  s.grain_count = static_cast<int>(r.get_int("dem.grain_count", s.grain_count, 1, 2'000'000));
+  s.areal_density = r.get_double("dem.areal_density_kg_per_m2", s.areal_density, Range::positive());
+  s.gravity = r.get_double("dem.gravity_m_per_s2", s.gravity, Range::positive());
+
+  GrainSpec& g = s.grains;
+  const std::string shape = r.get_choice("dem.grains.shape", "polygon", {"polygon", "disc"});
+  g.kind = shape == "disc" ? ShapeKind::disc : ShapeKind::polygon;
+  g.corners_min = static_cast<int>(r.get_int("dem.grains.corners_min", g.corners_min, 3, 64));
+  g.corners_max = static_cast<int>(r.get_int("dem.grains.corners_max", g.corners_max, 3, 64));
+  if (g.corners_max < g.corners_min)
+    throw InputError(r.source() + ": dem.grains.corners_max: " + std::to_string(g.corners_max) +
+                     " is below dem.grains.corners_min = " + std::to_string(g.corners_min));
+  g.mean_diameter = r.get_double("dem.grains.mean_diameter_m", g.mean_diameter, Range::positive());
+  g.polydispersity = r.get_double("dem.grains.polydispersity", g.polydispersity, {0.0, 1.0, false});
+  g.corner_jitter = r.get_double("dem.grains.corner_jitter", g.corner_jitter, {0.0, 0.45, false});
+
+  ContactParameters& c = s.contact;
+  c.youngs_modulus = r.get_double("dem.contact.youngs_modulus_N_per_m", c.youngs_modulus, Range::positive());
+  c.damping_gamma = r.get_double("dem.contact.damping_gamma", c.damping_gamma, {0.0, 10.0, false});
+  c.friction_mu = r.get_double("dem.contact.friction_mu", c.friction_mu, {0.0, 10.0, false});
+  c.tangential_stiffness_ratio =
+      r.get_double("dem.contact.tangential_stiffness_ratio", c.tangential_stiffness_ratio, {0.0, 10.0, false});
+  const std::string length = r.get_choice("dem.contact.contact_length", "paper", {"paper", "book"});
+  c.contact_length = length == "book" ? ContactLength::book : ContactLength::paper;
+
+  s.scheme = scheme_from_name(r.get_choice("dem.integrator.scheme", "gear5", {"gear5", "verlet"}));
+  s.time_step = r.get_double("dem.integrator.time_step_s", 0.0, Range::at_least(0.0));
+  s.time_step_fraction = r.get_double("dem.integrator.time_step_fraction", s.time_step_fraction, {0.0, 1.0, true});
+  s.allow_unstable_time_step = r.get_bool("dem.integrator.allow_unstable_time_step", false);
+
+  ContainerSpec& k = s.container;
+  k.plate_width = r.get_double("dem.container.plate_width_m", k.plate_width, Range::positive());
+  k.plate_thickness = r.get_double("dem.container.plate_thickness_m", k.plate_thickness, Range::positive());
+  k.side_walls = r.get_bool("dem.container.side_walls", k.side_walls);
+  k.side_wall_height = r.get_double("dem.container.side_wall_height_m", k.side_wall_height, Range::positive());
+  k.lost_below = r.get_double("dem.container.lost_below_m", k.lost_below, {-1e3, 0.0, false});
+
+  PourSpec& p = s.pour;
+  p.funnel_height = r.get_double("dem.pour.funnel_height_m", p.funnel_height, Range::positive());
+  p.funnel_x = r.get_double("dem.pour.funnel_x_m", p.funnel_x, Range());
+  p.funnel_speed = r.get_double("dem.pour.funnel_speed_m_per_s", p.funnel_speed, {-10.0, 10.0, false});
+  p.funnel_travel = r.get_double("dem.pour.funnel_travel_m", p.funnel_travel, Range::at_least(0.0));
+  p.inflow_speed = r.get_double("dem.pour.inflow_speed_m_per_s", p.inflow_speed, {0.0, 100.0, false});
+  p.rate = r.get_double("dem.pour.rate_grains_per_s", p.rate, Range::positive());
+  p.outlet_width = r.get_double("dem.pour.outlet_width_m", p.outlet_width, Range::at_least(0.0));
+  p.funnel_walls = r.get_bool("dem.pour.funnel_walls", p.funnel_walls);
+
+  SettleSpec& st = s.settle;
+  st.kinetic_energy_per_grain =
+      r.get_double("dem.settle.kinetic_energy_per_grain_J", st.kinetic_energy_per_grain, Range::positive());
+  st.min_time = r.get_double("dem.settle.min_time_s", st.min_time, Range::at_least(0.0));
+  st.max_time = r.get_double("dem.settle.max_time_s", st.max_time, Range::positive());
+
+  RelaxSpec& rl = s.relax;
+  rl.enabled = r.get_bool("dem.relax.enabled", rl.enabled);
+  rl.gravity_reduction = r.get_double("dem.relax.gravity_reduction", rl.gravity_reduction, {0.0, 1.0, true});
+  rl.ramp_time = r.get_double("dem.relax.ramp_time_s", rl.ramp_time, Range::positive());
+
+  OutputSpec& o = s.output;
+  o.frame_interval = r.get_double("dem.output.frame_interval_s", o.frame_interval, Range::at_least(0.0));
+  o.checkpoint_interval = r.get_double("dem.output.checkpoint_interval_s", o.checkpoint_interval, Range::at_least(0.0));
+  o.progress_interval = r.get_double("dem.output.progress_interval_s", o.progress_interval, Range::positive());
+  return s;
+}
+
+}  // namespace pilelab::dem

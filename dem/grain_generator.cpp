@@ -1,0 +1,23 @@
+#include "dem/grain_generator.h"
+
+#include <cmath>
+#include <vector>
+
+namespace pilelab::dem {
+
+Shape random_grain(const GrainSpec& spec, Rng& rng) {
+  const double lo = spec.mean_diameter * (1.0 - 0.5 * spec.polydispersity);
+  const double hi = spec.mean_diameter * (1.0 + 0.5 * spec.polydispersity);
+  if (spec.kind == ShapeKind::disc) return make_disc(0.5 * rng.uniform(lo, hi));
+  const double semi_a = 0.5 * rng.uniform(lo, hi), semi_b = 0.5 * rng.uniform(lo, hi);
+  const int n = rng.uniform_int(spec.corners_min, spec.corners_max);
+  std::vector<Vec2> corners(n);
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * M_PI * (k + rng.uniform(-spec.corner_jitter, spec.corner_jitter)) / n;
+    corners[k] = Vec2(semi_a * std::cos(phi), semi_b * std::sin(phi));
+  }
+  // Points in angular order on an ellipse always form a convex polygon.
+  return make_polygon(std::move(corners));
+}
+
+}  // namespace pilelab::dem

@@ -1,0 +1,26 @@
+#pragma once
+// Random grains as in the paper (section 2): convex polygons whose corners lie on an ellipse
+// with independently drawn axes, or discs.
+#include "common/rng.h"
+#include "dem/shape.h"
+
+namespace pilelab::dem {
+
+struct GrainSpec {
+  ShapeKind kind = ShapeKind::polygon;
+  int corners_min = 6;            ///< paper: 6
+  int corners_max = 8;            ///< paper: 8
+  double mean_diameter = 6.8e-3;  ///< mean ellipse axis (disc diameter) [m]
+  /// Width of the uniform size distribution relative to the mean: each axis (disc diameter)
+  /// is drawn uniformly from mean * [1 - p/2, 1 + p/2]. Paper: 0.3. 0 gives a monodisperse
+  /// mixture (polygons then still differ in their corner positions).
+  double polydispersity = 0.3;
+  /// Corners sit at angles 2 pi (k + xi_k) / n on the ellipse, xi_k uniform in
+  /// [-corner_jitter, corner_jitter]; below 0.5 neighbouring corners cannot swap.
+  double corner_jitter = 0.25;
+};
+
+/// Draws one grain shape (body frame, centroid at origin). Orientation is chosen at insertion.
+Shape random_grain(const GrainSpec& spec, Rng& rng);
+
+}  // namespace pilelab::dem

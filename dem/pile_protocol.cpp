@@ -1,0 +1,208 @@
+#include "dem/pile_protocol.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.h"
+#include "dem/grain_generator.h"
+
+namespace pilelab::dem {
+
+const char* phase_name(Phase p) {
+  switch (p) {
+    case Phase::pour: return "pour";
+    case Phase::settle: return "settle";
+    case Phase::ramp: return "gravity-ramp";
+    case Phase::relax_settle: return "relax-settle";
+    case Phase::done: return "done";
+  }
+  return "?";
+}
+
+namespace {
+// Grain shapes come from their own stream, so that changing the pouring (positions, angles)
+// never changes the grains themselves.
+std::vector<Shape> draw_shapes(const DemScene& scene) {
+  Rng rng(scene.seed);
+  std::vector<Shape> shapes;
+  shapes.reserve(scene.grain_count);
+  for (int i = 0; i < scene.grain_count; ++i) shapes.push_back(random_grain(scene.grains, rng));
+  return shapes;
+}
+
+WorldSettings world_settings(const DemScene& scene, const TimeStepBound& bound, const std::string& source) {
+  WorldSettings w;
+  w.contact = scene.contact;
+  w.scheme = scene.scheme;
+  w.gravity = Vec2(0.0, -scene.gravity);
+  if (scene.time_step > 0.0) {
+    if (scene.time_step > bound.stable_limit && !scene.allow_unstable_time_step) {
+      std::ostringstream s;
+      s.precision(4);
+      s << source << ": dem.integrator.time_step_s = " << scene.time_step << " s exceeds the stability limit "
+        << bound.stable_limit << " s of the " << scheme_name(scene.scheme)
+        << " integrator for these grains (stiffest contact: omega = " << bound.omega_max
+        << " 1/s, damping ratio " << bound.damping_ratio
+        << "); choose time_step_s <= the limit, leave it out for the default, or set "
+           "dem.integrator.allow_unstable_time_step = true to run anyway";
+      throw InputError(s.str());
+    }
+    w.time_step = scene.time_step;
+  } else {
+    w.time_step = scene.time_step_fraction * bound.stable_limit;
+  }
+  return w;
+}
+}  // namespace
+
+PileProtocol::PileProtocol(const DemScene& scene, const std::string& source)
+    : scene_(scene), world_(WorldSettings{}), rng_(scene.seed ^ 0x5eed5eed5eed5eedULL) {
+  std::vector<Shape> shapes = draw_shapes(scene);
+  bound_ = stable_time_step(shapes, scene.areal_density, scene.contact, scene.scheme);
+  world_ = World(world_settings(scene, bound_, source));
+  build_container();
+  first_grain_ = world_.body_count();
+  for (const Shape& s : shapes) world_.add_grain(s, scene.areal_density);
+  state_.rng = rng_.state();
+}
+
+void PileProtocol::build_container() {
+  const ContainerSpec& c = scene_.container;
+  auto rectangle = [](double w, double h) {
+    return make_polygon({{-w / 2, -h / 2}, {w / 2, -h / 2}, {w / 2, h / 2}, {-w / 2, h / 2}});
+  };
+  // Ground plate: its top surface is y = 0.
+  world_.add_wall(rectangle(c.plate_width, c.plate_thickness), {0.0, -c.plate_thickness / 2}, 0.0);
+  if (c.side_walls) {
+    const Shape wall = rectangle(c.plate_thickness, c.side_wall_height);
+    for (double side : {-1.0, 1.0})
+      world_.add_wall(wall, {side * (c.plate_width + c.plate_thickness) / 2, c.side_wall_height / 2}, 0.0);
+  }
+  const PourSpec& p = scene_.pour;
+  if (p.funnel_walls) {
+    // Two plates sloping at 60 degrees above the outlet; their lower ends leave a gap one grain
+    // wider than the outlet on each side and sit one grain diameter above the insertion height,
+    // so that no inserted grain overlaps them.
+    const double d = scene_.grains.mean_diameter * (1.0 + 0.5 * scene_.grains.polydispersity);
+    const double length = std::max(4.0 * d, p.outlet_width), thick = 0.5 * d;
+    const Shape plate = rectangle(length, thick);
+    const double slope = M_PI / 3.0;
+    for (double side : {-1.0, 1.0}) {
+      const Vec2 lower_end(p.funnel_x + side * (p.outlet_width / 2 + d), p.funnel_height + d);
+      const Vec2 centre = lower_end + 0.5 * length * Vec2(side * std::cos(slope), std::sin(slope));
+      funnel_walls_.push_back(world_.add_wall(plate, centre, side * slope, {p.funnel_speed, 0.0}));
+    }
+  }
+}
+
+double PileProtocol::funnel_x(double t) const {
+  const PourSpec& p = scene_.pour;
+  if (p.funnel_speed == 0.0) return p.funnel_x;
+  double travel = std::abs(p.funnel_speed) * t;
+  if (p.funnel_travel > 0.0) travel = std::min(travel, p.funnel_travel);
+  return p.funnel_x + std::copysign(travel, p.funnel_speed);
+}
+
+double PileProtocol::kinetic_energy_per_grain() const {
+  const auto n = world_.active_grains().size();
+  return n ? world_.kinetic_energy() / static_cast<double>(n) : 0.0;
+}
+
+void PileProtocol::try_insert() {
+  const double t = world_.time();
+  if (state_.poured >= scene_.grain_count || t < state_.next_insert_time) return;
+  const int body = first_grain_ + state_.poured;
+  const PourSpec& p = scene_.pour;
+  // Draw the exit point and orientation, then insert only if the grain's bounding circle is
+  // clear of every other grain, so no insertion starts with an overlap.
+  const Vec2 at(funnel_x(t) + p.outlet_width * (rng_.uniform() - 0.5), p.funnel_height);
+  const double angle = 2.0 * M_PI * rng_.uniform();
+  state_.rng = rng_.state();
+  const double r = world_.shape(body).bounding_radius;
+  for (int j : world_.active_grains()) {
+    const double reach = r + world_.shape(j).bounding_radius;
+    if ((world_.position(j) - at).squaredNorm() < reach * reach) {
+      // Blocked. If the outlet stays blocked (the pile has reached the funnel), stop pouring.
+      if (t - state_.last_insert_time > 2.0 + 10.0 / p.rate) state_.pour_stalled = true;
+      return;
+    }
+  }
+  double vx = 0.0;
+  if (p.funnel_speed != 0.0 && funnel_x(t + 1e-9) != funnel_x(t)) vx = p.funnel_speed;
+  world_.activate(body, at, angle, {vx, -p.inflow_speed}, 0.0);
+  ++state_.poured;
+  state_.last_insert_time = t;
+  state_.next_insert_time = std::max(state_.next_insert_time + 1.0 / p.rate, t);
+}
+
+void PileProtocol::remove_lost_grains() {
+  std::vector<int> lost;
+  for (int i : world_.active_grains())
+    if (world_.position(i).y() < scene_.container.lost_below) lost.push_back(i);
+  for (int i : lost) world_.deactivate(i);
+  state_.lost += static_cast<int>(lost.size());
+}
+
+void PileProtocol::finish_settling(const std::string& snapshot_name, Phase next) {
+  snapshots_.push_back(take_snapshot(world_, snapshot_name));
+  state_.phase = next;
+  state_.phase_start = world_.time();
+}
+
+void PileProtocol::advance_phase() {
+  const double t = world_.time(), in_phase = t - state_.phase_start;
+  const SettleSpec& s = scene_.settle;
+  const bool quiet = kinetic_energy_per_grain() < s.kinetic_energy_per_grain;
+  const bool settled = (in_phase >= s.min_time && quiet) || in_phase >= s.max_time;
+  switch (state_.phase) {
+    case Phase::pour:
+      if (state_.poured >= scene_.grain_count || state_.pour_stalled) {
+        state_.phase = Phase::settle;
+        state_.phase_start = t;
+        for (int w : funnel_walls_) world_.set_wall_velocity(w, {0.0, 0.0});
+      }
+      break;
+    case Phase::settle:
+      if (settled) finish_settling("settled", scene_.relax.enabled ? Phase::ramp : Phase::done);
+      break;
+    case Phase::ramp:
+      if (in_phase >= scene_.relax.ramp_time) {
+        world_.set_gravity({0.0, -scene_.gravity * (1.0 - scene_.relax.gravity_reduction)});
+        state_.phase = Phase::relax_settle;
+        state_.phase_start = t;
+      }
+      break;
+    case Phase::relax_settle:
+      if (settled) finish_settling("relaxed", Phase::done);
+      break;
+    case Phase::done: break;
+  }
+}
+
+void PileProtocol::step() {
+  if (done()) return;
+  if (state_.phase == Phase::pour) try_insert();
+  if (state_.phase == Phase::ramp) {
+    // A slow, linear reduction of g, so that the pile follows quasi-statically (paper 3.2).
+    const double f = std::min(1.0, (world_.time() - state_.phase_start) / scene_.relax.ramp_time);
+    world_.set_gravity({0.0, -scene_.gravity * (1.0 - f * scene_.relax.gravity_reduction)});
+  }
+  if (state_.phase == Phase::pour && scene_.pour.funnel_travel > 0.0 && !funnel_walls_.empty() &&
+      funnel_x(world_.time()) == funnel_x(world_.time() + world_.settings().time_step) &&
+      world_.velocity(funnel_walls_[0]).squaredNorm() > 0.0)
+    for (int w : funnel_walls_) world_.set_wall_velocity(w, {0.0, 0.0});  // the funnel has arrived
+  world_.step();
+  if (world_.steps() % check_interval == 0) {
+    remove_lost_grains();
+    advance_phase();
+  }
+}
+
+void PileProtocol::restore(const ProtocolState& state, std::vector<Snapshot> snapshots) {
+  state_ = state;
+  rng_.set_state(state.rng);
+  snapshots_ = std::move(snapshots);
+}
+
+}  // namespace pilelab::dem

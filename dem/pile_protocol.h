@@ -1,0 +1,77 @@
+#pragma once
+// The experiment of the paper (section 2, 3.2): pour grains from a point source onto a flat
+// plate, let the pile settle, and optionally relax it by a slow reduction of gravity. The
+// protocol owns the world and advances it one time step at a time through these phases:
+//   pour -> settle -> [ramp -> relax_settle] -> done
+// taking the snapshots "settled" and (after the ramp) "relaxed".
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/rng.h"
+#include "dem/dem_scene.h"
+#include "dem/snapshot.h"
+#include "dem/time_step.h"
+#include "dem/world.h"
+
+namespace pilelab::dem {
+
+enum class Phase : int { pour = 0, settle = 1, ramp = 2, relax_settle = 3, done = 4 };
+const char* phase_name(Phase p);
+
+/// Everything besides the world that a restart needs to continue exactly.
+struct ProtocolState {
+  Phase phase = Phase::pour;
+  double phase_start = 0.0;       ///< simulated time the phase began [s]
+  int poured = 0;                 ///< grains inserted so far
+  int lost = 0;                   ///< grains removed after leaving the plate
+  double next_insert_time = 0.0;  ///< [s]
+  double last_insert_time = 0.0;  ///< [s]
+  bool pour_stalled = false;      ///< the outlet stayed blocked: pouring stopped early
+  std::array<std::uint64_t, 4> rng{};
+};
+
+class PileProtocol {
+ public:
+  /// Builds the container and draws every grain's shape from the scene's seed; throws
+  /// InputError (naming source) if the scene's time step exceeds the stability limit.
+  PileProtocol(const DemScene& scene, const std::string& source);
+
+  /// One time step of the world plus the protocol's bookkeeping.
+  void step();
+  bool done() const { return state_.phase == Phase::done; }
+
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  const DemScene& scene() const { return scene_; }
+  const TimeStepBound& time_step_bound() const { return bound_; }
+  const ProtocolState& state() const { return state_; }
+  const std::vector<Snapshot>& snapshots() const { return snapshots_; }
+  /// Mean kinetic energy per active grain [J].
+  double kinetic_energy_per_grain() const;
+
+  /// For checkpoints.
+  void restore(const ProtocolState& state, std::vector<Snapshot> snapshots);
+
+  static constexpr int check_interval = 64;  ///< steps between settling/loss checks
+
+ private:
+  void build_container();
+  void try_insert();
+  void remove_lost_grains();
+  void advance_phase();
+  double funnel_x(double t) const;
+  void finish_settling(const std::string& snapshot_name, Phase next);
+
+  DemScene scene_;
+  World world_;
+  TimeStepBound bound_;
+  ProtocolState state_;
+  Rng rng_;
+  std::vector<int> funnel_walls_;
+  int first_grain_ = 0;
+  std::vector<Snapshot> snapshots_;
+};
+
+}  // namespace pilelab::dem

@@ -1,0 +1,69 @@
+#include "dem/pile_shape.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pilelab::dem {
+
+namespace {
+// Least-squares slope of y against x.
+double fitted_slope(const std::vector<Vec2>& pts) {
+  double sx = 0, sy = 0;
+  for (const Vec2& p : pts) {
+    sx += p.x();
+    sy += p.y();
+  }
+  const double mx = sx / pts.size(), my = sy / pts.size();
+  double sxx = 0, sxy = 0;
+  for (const Vec2& p : pts) {
+    sxx += (p.x() - mx) * (p.x() - mx);
+    sxy += (p.x() - mx) * (p.y() - my);
+  }
+  return sxy / sxx;
+}
+}  // namespace
+
+PileShape measure_pile(const World& world, double bin_width) {
+  PileShape shape;
+  const auto& grains = world.active_grains();
+  if (grains.empty()) {
+    shape.repose_left_deg = shape.repose_right_deg = std::numeric_limits<double>::quiet_NaN();
+    return shape;
+  }
+  double xmin = INFINITY, xmax = -INFINITY;
+  for (int i : grains) {
+    xmin = std::min(xmin, world.position(i).x());
+    xmax = std::max(xmax, world.position(i).x());
+  }
+  const int bins = static_cast<int>((xmax - xmin) / bin_width) + 1;
+  std::vector<double> top(bins, -INFINITY);
+  for (int i : grains) {
+    const Vec2 p = world.position(i);
+    double y = p.y() + world.shape(i).radius;
+    for (int k = 0; k < world.corner_count(i); ++k) y = std::max(y, world.corners(i)[k].y());
+    const int b = static_cast<int>((p.x() - xmin) / bin_width);
+    top[b] = std::max(top[b], y);
+  }
+  int apex = 0;
+  for (int b = 0; b < bins; ++b) {
+    if (top[b] == -INFINITY) continue;
+    shape.surface.emplace_back(xmin + (b + 0.5) * bin_width, top[b]);
+    if (top[b] > top[apex]) apex = b;
+  }
+  shape.height = top[apex];
+  shape.apex_x = xmin + (apex + 0.5) * bin_width;
+  std::vector<Vec2> left, right;
+  for (const Vec2& s : shape.surface) {
+    if (s.y() < 0.2 * shape.height || s.y() > 0.8 * shape.height) continue;
+    (s.x() < shape.apex_x ? left : right).push_back(s);
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  shape.left_points = static_cast<int>(left.size());
+  shape.right_points = static_cast<int>(right.size());
+  shape.repose_left_deg = left.size() >= 3 ? std::atan(std::abs(fitted_slope(left))) * 180.0 / M_PI : nan;
+  shape.repose_right_deg = right.size() >= 3 ? std::atan(std::abs(fitted_slope(right))) * 180.0 / M_PI : nan;
+  return shape;
+}
+
+}  // namespace pilelab::dem

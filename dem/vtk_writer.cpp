@@ -1,0 +1,224 @@
+#include "dem/vtk_writer.h"
+
+#include <cmath>
+#include <cstdint>
+#include <iomanip>
+#include <limits>
+#include <locale>
+#include <sstream>
+
+#include "common/atomic_file.h"
+
+namespace pilelab::dem {
+
+namespace {
+
+constexpr int vtk_line = 3;
+constexpr int vtk_polygon = 7;
+
+// A cell-data array: integers or doubles, with its VTK type name.
+struct CellArray {
+  std::string name;
+  std::string type;  // "Int32", "Int64" or "Float64"
+  int components = 1;
+  std::vector<std::int64_t> ints;
+  std::vector<double> reals;
+};
+
+// What one VTU file holds: points (3 coordinates each), cells as VTK connectivity/offsets/types,
+// and the cell-data arrays.
+struct Grid {
+  std::vector<double> points;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<int> types;
+  std::vector<CellArray> cell_data;
+
+  void add_point(const Vec2& p) { points.insert(points.end(), {p.x(), p.y(), 0.0}); }
+  void close_cell(int type) {
+    for (std::int64_t k = offsets.empty() ? 0 : offsets.back(); k < point_count(); ++k) connectivity.push_back(k);
+    offsets.push_back(point_count());
+    types.push_back(type);
+  }
+  std::int64_t point_count() const { return static_cast<std::int64_t>(points.size() / 3); }
+  CellArray& array(const std::string& name, const std::string& type, int components = 1) {
+    cell_data.push_back({name, type, components, {}, {}});
+    return cell_data.back();
+  }
+};
+
+std::ostringstream make_stream(int precision) {
+  std::ostringstream s;
+  s.imbue(std::locale::classic());  // a '.' decimal point whatever the user's locale
+  s << std::setprecision(precision);
+  return s;
+}
+
+// Values one tuple per line. The element always has text (at least a newline): some readers
+// fail on an empty element.
+template <class T>
+void write_values(std::ostream& out, const std::vector<T>& values, int per_line) {
+  out << "\n";
+  for (std::size_t i = 0; i < values.size(); ++i) out << values[i] << ((i + 1) % per_line == 0 ? "\n" : " ");
+  if (values.size() % per_line != 0) out << "\n";
+}
+
+void write_data_array(std::ostream& out, const std::string& name, const std::string& type, int components,
+                      const std::vector<std::int64_t>* ints, const std::vector<double>* reals) {
+  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
+      << "\" format=\"ascii\">";
+  if (ints) write_values(out, *ints, components);
+  if (reals) write_values(out, *reals, components);
+  out << "        </DataArray>\n";
+}
+
+// Doubles with 10 significant digits: plenty for pictures, and the files stay a third smaller
+// than with round-trip precision. The exact values are in dem.h5.
+std::string vtu_text(const Grid& g, double time) {
+  std::ostringstream out = make_stream(10);
+  const std::vector<std::int64_t> types(g.types.begin(), g.types.end());
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<!-- pilelab DEM output. Units: m, s, rad; forces in N per unit depth (2D); see docs/FORMAT.md -->\n"
+      << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "  <UnstructuredGrid>\n"
+      << "    <FieldData>\n"
+      << "      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">"
+      << std::setprecision(std::numeric_limits<double>::max_digits10) << time << std::setprecision(10)
+      << "</DataArray>\n"
+      << "    </FieldData>\n"
+      << "    <Piece NumberOfPoints=\"" << g.point_count() << "\" NumberOfCells=\"" << g.types.size() << "\">\n"
+      << "      <Points>\n";
+  write_data_array(out, "Points", "Float64", 3, nullptr, &g.points);
+  out << "      </Points>\n      <Cells>\n";
+  write_data_array(out, "connectivity", "Int64", 1, &g.connectivity, nullptr);
+  write_data_array(out, "offsets", "Int64", 1, &g.offsets, nullptr);
+  write_data_array(out, "types", "UInt8", 1, &types, nullptr);
+  out << "      </Cells>\n      <CellData>\n";
+  for (const CellArray& a : g.cell_data)
+    write_data_array(out, a.name, a.type, a.components, a.type == "Float64" ? nullptr : &a.ints,
+                     a.type == "Float64" ? &a.reals : nullptr);
+  out << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  return out.str();
+}
+
+// The outline in world coordinates from the body's position and angle (not World::corners(),
+// which are placed at the predicted position of the last step), so that the picture matches
+// the velocities and the snapshot of the same instant.
+void add_outline(Grid& g, const World& world, int body) {
+  const Shape& s = world.shape(body);
+  const Vec2 p = world.position(body);
+  const double th = world.angle(body);
+  if (s.kind == ShapeKind::disc) {
+    for (int k = 0; k < disc_outline_corners; ++k) {
+      const double phi = th + 2.0 * M_PI * k / disc_outline_corners;
+      g.add_point(p + s.radius * Vec2(std::cos(phi), std::sin(phi)));
+    }
+  } else {
+    const double c = std::cos(th), sn = std::sin(th);
+    for (const Vec2& v : s.vertices) g.add_point(p + rotate(v, c, sn));
+  }
+  g.close_cell(vtk_polygon);
+}
+
+std::vector<std::int64_t> contacts_per_body(const World& world) {
+  std::vector<std::int64_t> count(world.body_count(), 0);
+  for (const Contact& c : world.contacts()) {
+    ++count[c.a];
+    ++count[c.b];
+  }
+  return count;
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_grains_vtu(const std::string& path, const World& world) {
+  std::vector<int> bodies;
+  for (int w = 0; w < world.wall_count(); ++w) bodies.push_back(w);
+  bodies.insert(bodies.end(), world.active_grains().begin(), world.active_grains().end());
+
+  Grid g;
+  const std::vector<std::int64_t> count = contacts_per_body(world);
+  std::vector<std::int64_t> body, is_wall, contact_count;
+  std::vector<double> velocity, angular_velocity, contact_force, speed;
+  for (int b : bodies) {
+    add_outline(g, world, b);
+    const Vec2 v = world.velocity(b), f = world.contact_force(b);
+    body.push_back(b);
+    is_wall.push_back(world.is_wall(b) ? 1 : 0);
+    velocity.insert(velocity.end(), {v.x(), v.y(), 0.0});
+    angular_velocity.push_back(world.angular_velocity(b));
+    contact_force.insert(contact_force.end(), {f.x(), f.y(), 0.0});
+    contact_count.push_back(count[b]);
+    speed.push_back(v.norm());
+  }
+  g.array("body", "Int64").ints = std::move(body);
+  g.array("is_wall", "Int32").ints = std::move(is_wall);
+  g.array("velocity", "Float64", 3).reals = std::move(velocity);
+  g.array("angular_velocity", "Float64").reals = std::move(angular_velocity);
+  g.array("contact_force", "Float64", 3).reals = std::move(contact_force);
+  g.array("contact_count", "Int32").ints = std::move(contact_count);
+  g.array("speed", "Float64").reals = std::move(speed);
+  write_text_atomically(path, vtu_text(g, world.time()));
+}
+
+void write_contacts_vtu(const std::string& path, const World& world) {
+  Grid g;
+  std::vector<std::int64_t> body_a, body_b;
+  std::vector<double> normal_force, tangential_force, force, overlap_area, chord;
+  for (const Contact& c : world.contacts()) {
+    // A wall's centroid can be far away (a long floor): start its line at the contact point.
+    g.add_point(world.is_wall(c.a) ? c.point : world.position(c.a));
+    g.add_point(world.position(c.b));
+    g.close_cell(vtk_line);
+    body_a.push_back(c.a);
+    body_b.push_back(c.b);
+    normal_force.push_back(c.normal_force);
+    tangential_force.push_back(c.tangential_force);
+    const Vec2 f = c.force_on_b();
+    force.insert(force.end(), {f.x(), f.y(), 0.0});
+    overlap_area.push_back(c.area);
+    chord.push_back(c.chord);
+  }
+  g.array("body_a", "Int64").ints = std::move(body_a);
+  g.array("body_b", "Int64").ints = std::move(body_b);
+  g.array("normal_force", "Float64").reals = std::move(normal_force);
+  g.array("tangential_force", "Float64").reals = std::move(tangential_force);
+  g.array("force", "Float64", 3).reals = std::move(force);
+  g.array("overlap_area", "Float64").reals = std::move(overlap_area);
+  g.array("chord", "Float64").reals = std::move(chord);
+  write_text_atomically(path, vtu_text(g, world.time()));
+}
+
+PvdSeries::PvdSeries(std::string path) : path_(std::move(path)) {}
+
+void PvdSeries::add(double time, const std::string& vtu_file_relative, int part) {
+  entries_.push_back({time, vtu_file_relative, part});
+}
+
+void PvdSeries::write() const {
+  // Round-trip precision: ParaView matches the times of different parts exactly.
+  std::ostringstream out = make_stream(std::numeric_limits<double>::max_digits10);
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <Collection>\n";
+  for (const Entry& e : entries_)
+    out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\" file=\""
+        << xml_escape(e.file) << "\"/>\n";
+  out << "  </Collection>\n</VTKFile>\n";
+  write_text_atomically(path_, out.str());
+}
+
+}  // namespace pilelab::dem

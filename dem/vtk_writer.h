@@ -1,0 +1,48 @@
+#pragma once
+// ParaView output: ASCII VTU files (XML UnstructuredGrid) of the grains and of the contact
+// network, and a .pvd collection that lists them by time. Every file is written atomically.
+// Arrays, units and conventions: docs/FORMAT.md, section "dem.pvd / grains_*.vtu / contacts_*.vtu".
+#include <string>
+#include <vector>
+
+#include "dem/world.h"
+
+namespace pilelab::dem {
+
+/// Discs are drawn as regular polygons with this many corners.
+constexpr int disc_outline_corners = 24;
+
+/// One VTK_POLYGON cell per wall and per active grain (walls first, then grains by body
+/// index), outlines placed from each body's position and angle. Cell data: body, is_wall,
+/// velocity, angular_velocity, contact_force, contact_count, speed. Field data: TIME.
+void write_grains_vtu(const std::string& path, const World& world);
+
+/// One VTK_LINE cell per contact, from the centroid of a (for a wall: the contact point) to the
+/// centroid of b. Cell data: body_a, body_b, normal_force, tangential_force, force, overlap_area,
+/// chord. A world without contacts gives a valid file with no cells.
+void write_contacts_vtu(const std::string& path, const World& world);
+
+/// A .pvd collection of VTU files by time. Call write() after adding each frame's parts: the
+/// file is rewritten whole (atomically), so a killed run leaves a valid .pvd of the frames
+/// written so far.
+class PvdSeries {
+ public:
+  explicit PvdSeries(std::string path);
+  /// vtu_file_relative is relative to the directory of the .pvd; part tells apart files of the
+  /// same time (e.g. 0 grains, 1 contacts).
+  void add(double time, const std::string& vtu_file_relative, int part);
+  void write() const;
+  std::size_t size() const { return entries_.size(); }
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Entry {
+    double time;
+    std::string file;
+    int part;
+  };
+  std::string path_;
+  std::vector<Entry> entries_;
+};
+
+}  // namespace pilelab::dem

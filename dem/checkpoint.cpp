@@ -1,0 +1,163 @@
+#include "dem/checkpoint.h"
+
+#include <filesystem>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/hdf5_file.h"
+#include "dem/dem_file.h"
+
+namespace pilelab::dem {
+
+// Layout of checkpoint.h5 (the completed snapshots go to a sibling file in the dem.h5 format,
+// written first, so the checkpoint never names a snapshot that is not on disk):
+//   /scene                 scene text the run was started with
+//   /world/d0 .. d5        MotionState derivatives, 3 per body
+//   /world/active          per body 0/1
+//   /world attrs           time_s, steps, gravity_y
+//   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
+//   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
+//                          pour_stalled; /protocol/rng (4 words)
+//   /counters attrs        particle_steps, wall_time, checkpoints, snapshots; /counters/frame_times
+
+namespace {
+std::string snapshots_path(const std::string& checkpoint) {
+  return checkpoint.substr(0, checkpoint.size() - 3) + "_snapshots.h5";
+}
+}  // namespace
+
+void write_checkpoint(const std::string& path, const std::string& scene_text, const PileProtocol& protocol,
+                      const RunCounters& counters) {
+  const World& world = protocol.world();
+  if (!protocol.snapshots().empty())
+    write_dem_file(snapshots_path(path), scene_text, world, protocol.snapshots(), nlohmann::json::object());
+  write_atomically(path, [&](const std::string& tmp) {
+    H5File f = H5File::create(tmp);
+    f.write_string("/scene", scene_text);
+    const MotionState& m = world.motion();
+    for (int k = 0; k < 6; ++k) f.write("/world/d" + std::to_string(k), m.d[k]);
+    std::vector<std::int64_t> active(world.activity().begin(), world.activity().end());
+    f.write("/world/active", active);
+    f.set_attribute("/world", "time_s", world.time());
+    f.set_attribute("/world", "steps", world.steps());
+    f.set_attribute("/world", "gravity_y", world.settings().gravity.y());
+
+    const auto& cs = world.contacts();
+    std::vector<std::int64_t> a, b;
+    std::vector<double> spring, point, normal, fn, ft, area, chord;
+    for (const Contact& c : cs) {
+      a.push_back(c.a);
+      b.push_back(c.b);
+      spring.push_back(c.spring);
+      point.insert(point.end(), {c.point.x(), c.point.y()});
+      normal.insert(normal.end(), {c.normal.x(), c.normal.y()});
+      fn.push_back(c.normal_force);
+      ft.push_back(c.tangential_force);
+      area.push_back(c.area);
+      chord.push_back(c.chord);
+    }
+    f.write("/contacts/a", a);
+    f.write("/contacts/b", b);
+    f.write("/contacts/spring", spring);
+    f.write("/contacts/point", point);
+    f.write("/contacts/normal", normal);
+    f.write("/contacts/normal_force", fn);
+    f.write("/contacts/tangential_force", ft);
+    f.write("/contacts/area", area);
+    f.write("/contacts/chord", chord);
+
+    const ProtocolState& s = protocol.state();
+    f.set_attribute("/protocol", "phase", static_cast<std::int64_t>(s.phase));
+    f.set_attribute("/protocol", "phase_start", s.phase_start);
+    f.set_attribute("/protocol", "poured", static_cast<std::int64_t>(s.poured));
+    f.set_attribute("/protocol", "lost", static_cast<std::int64_t>(s.lost));
+    f.set_attribute("/protocol", "next_insert_time", s.next_insert_time);
+    f.set_attribute("/protocol", "last_insert_time", s.last_insert_time);
+    f.set_attribute("/protocol", "pour_stalled", static_cast<std::int64_t>(s.pour_stalled));
+    f.write("/protocol/rng", std::vector<std::uint64_t>(s.rng.begin(), s.rng.end()));
+
+    f.set_attribute("/counters", "particle_steps", counters.particle_steps);
+    f.set_attribute("/counters", "wall_time", counters.wall_time);
+    f.set_attribute("/counters", "checkpoints", counters.checkpoints);
+    f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
+    f.write("/counters/frame_times", counters.frame_times);
+  });
+}
+
+void read_checkpoint(const std::string& path, const std::string& scene_text, PileProtocol& protocol,
+                     RunCounters& counters) {
+  if (!std::filesystem::exists(path))
+    throw InputError(path + ": no checkpoint to restart from (run without --restart first)");
+  H5File f = H5File::open_read(path);
+  if (f.read_string("/scene") != scene_text)
+    throw InputError(path + ": /scene: the checkpoint was written for a different scene text; "
+                     "restart needs the scene file unchanged");
+  World& world = protocol.world();
+  MotionState& m = world.motion();
+  for (int k = 0; k < 6; ++k) {
+    std::vector<double> d = f.read_doubles("/world/d" + std::to_string(k));
+    if (d.size() != m.d[k].size())
+      throw InputError(path + ": /world/d" + std::to_string(k) + ": expected " + std::to_string(m.d[k].size()) +
+                       " values for this scene, found " + std::to_string(d.size()));
+    m.d[k] = std::move(d);
+  }
+  const std::vector<std::int64_t> active = f.read_ints("/world/active");
+  if (active.size() != static_cast<std::size_t>(world.body_count()))
+    throw InputError(path + ": /world/active: body count does not match the scene");
+  world.restore_activity(std::vector<std::uint8_t>(active.begin(), active.end()));
+  world.restore_clock(f.attribute_double("/world", "time_s"), f.attribute_int("/world", "steps"));
+  world.set_gravity({0.0, f.attribute_double("/world", "gravity_y")});
+
+  const auto a = f.read_ints("/contacts/a"), b = f.read_ints("/contacts/b");
+  const auto spring = f.read_doubles("/contacts/spring"), point = f.read_doubles("/contacts/point"),
+             normal = f.read_doubles("/contacts/normal"), fn = f.read_doubles("/contacts/normal_force"),
+             ft = f.read_doubles("/contacts/tangential_force"), area = f.read_doubles("/contacts/area"),
+             chord = f.read_doubles("/contacts/chord");
+  const std::size_t n = a.size();
+  if (b.size() != n || spring.size() != n || point.size() != 2 * n || normal.size() != 2 * n || fn.size() != n ||
+      ft.size() != n || area.size() != n || chord.size() != n)
+    throw InputError(path + ": /contacts: datasets of inconsistent length");
+  auto& contacts = world.mutable_contacts();
+  contacts.assign(n, Contact{});
+  for (std::size_t i = 0; i < n; ++i) {
+    Contact& c = contacts[i];
+    c.a = static_cast<std::int32_t>(a[i]);
+    c.b = static_cast<std::int32_t>(b[i]);
+    c.spring = spring[i];
+    c.point = {point[2 * i], point[2 * i + 1]};
+    c.normal = {normal[2 * i], normal[2 * i + 1]};
+    c.normal_force = fn[i];
+    c.tangential_force = ft[i];
+    c.area = area[i];
+    c.chord = chord[i];
+  }
+
+  ProtocolState s;
+  s.phase = static_cast<Phase>(f.attribute_int("/protocol", "phase"));
+  s.phase_start = f.attribute_double("/protocol", "phase_start");
+  s.poured = static_cast<int>(f.attribute_int("/protocol", "poured"));
+  s.lost = static_cast<int>(f.attribute_int("/protocol", "lost"));
+  s.next_insert_time = f.attribute_double("/protocol", "next_insert_time");
+  s.last_insert_time = f.attribute_double("/protocol", "last_insert_time");
+  s.pour_stalled = f.attribute_int("/protocol", "pour_stalled") != 0;
+  const auto rng = f.read_uints("/protocol/rng");
+  if (rng.size() != 4) throw InputError(path + ": /protocol/rng: expected 4 words");
+  for (int k = 0; k < 4; ++k) s.rng[k] = rng[k];
+
+  std::vector<Snapshot> snapshots;
+  const std::int64_t snapshot_count = f.attribute_int("/counters", "snapshots");
+  if (snapshot_count > 0) {
+    const DemFile done = read_dem_file(snapshots_path(path));
+    if (static_cast<std::int64_t>(done.snapshot_names.size()) < snapshot_count)
+      throw InputError(snapshots_path(path) + ": holds fewer snapshots than the checkpoint names");
+    for (std::int64_t k = 0; k < snapshot_count; ++k) snapshots.push_back(done.snapshot(done.snapshot_names[k]));
+  }
+  protocol.restore(s, std::move(snapshots));
+
+  counters.particle_steps = f.attribute_int("/counters", "particle_steps");
+  counters.wall_time = f.attribute_double("/counters", "wall_time");
+  counters.checkpoints = f.attribute_int("/counters", "checkpoints");
+  counters.frame_times = f.read_doubles("/counters/frame_times");
+}
+
+}  // namespace pilelab::dem

@@ -1,0 +1,27 @@
+#pragma once
+// Checkpoints: the complete dynamic state of a pile run (world, contacts with their spring
+// history, protocol, random stream, output counters), enough to continue bit for bit.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/pile_protocol.h"
+
+namespace pilelab::dem {
+
+/// Counters of the run driver that a restart continues.
+struct RunCounters {
+  std::int64_t particle_steps = 0;   ///< sum over steps of active grains
+  double wall_time = 0.0;            ///< [s] accumulated over all sessions of this run
+  std::vector<double> frame_times;   ///< simulated times of the VTK frames written
+  std::int64_t checkpoints = 0;
+};
+
+void write_checkpoint(const std::string& path, const std::string& scene_text, const PileProtocol& protocol,
+                      const RunCounters& counters);
+/// Restores protocol and counters; throws InputError if the file is missing or corrupt, or was
+/// written for another scene.
+void read_checkpoint(const std::string& path, const std::string& scene_text, PileProtocol& protocol,
+                     RunCounters& counters);
+
+}  // namespace pilelab::dem

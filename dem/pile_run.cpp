@@ -1,0 +1,206 @@
+#include "dem/pile_run.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "common/error.h"
+#include "common/report.h"
+#include "common/scene_reader.h"
+#include "dem/checkpoint.h"
+#include "dem/dem_file.h"
+#include "dem/dem_scene.h"
+#include "dem/pile_protocol.h"
+#include "dem/pile_shape.h"
+#include "dem/vtk_writer.h"
+
+namespace pilelab::dem {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// The top-level tables a scene may hold; each stage checks the keys of its own.
+const std::vector<std::string> scene_tables = {"scene", "dem", "mesh", "coarse", "continuum", "compare"};
+
+std::string frame_name(const char* kind, std::size_t index) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s_%05zu.vtu", kind, index);
+  return buf;
+}
+
+class FrameWriter {
+ public:
+  FrameWriter(const std::string& out_dir) : dir_(out_dir), pvd_(out_dir + "/dem.pvd") {}
+  void write(const World& world, std::vector<double>& times) {
+    const std::size_t k = times.size();
+    write_grains_vtu(dir_ + "/" + frame_name("grains", k), world);
+    write_contacts_vtu(dir_ + "/" + frame_name("contacts", k), world);
+    times.push_back(world.time());
+    rebuild(times);
+  }
+  void rebuild(const std::vector<double>& times) {
+    pvd_ = PvdSeries(dir_ + "/dem.pvd");
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      pvd_.add(times[k], frame_name("grains", k), 0);
+      pvd_.add(times[k], frame_name("contacts", k), 1);
+    }
+    pvd_.write();
+  }
+
+ private:
+  std::string dir_;
+  PvdSeries pvd_;
+};
+
+void print_progress(const PileProtocol& p, double steps_per_s, double grain_steps_per_s, double sim_per_wall) {
+  const auto& s = p.state();
+  const DemScene& scene = p.scene();
+  double remaining = NAN;  // simulated seconds left, where it can be estimated
+  if (s.phase == Phase::pour) remaining = (scene.grain_count - s.poured) / scene.pour.rate + scene.settle.min_time;
+  std::fprintf(stderr, "[%-12s] t = %8.4f s  grains %d/%d (lost %d)  KE %.3e J  %.3g steps/s  %.3g grain-steps/s",
+               phase_name(s.phase), p.world().time(), s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(),
+               steps_per_s, grain_steps_per_s);
+  if (std::isfinite(remaining) && sim_per_wall > 0)
+    std::fprintf(stderr, "  pour ends in ~%.0f s", remaining / sim_per_wall);
+  else if (s.phase != Phase::pour)
+    std::fprintf(stderr, "  (settling: KE/grain %.2e J, target %.2e J)", p.kinetic_energy_per_grain(),
+                 scene.settle.kinetic_energy_per_grain);
+  std::fprintf(stderr, "\n");
+}
+
+nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threads) {
+  const World& w = p.world();
+  const DemScene& scene = p.scene();
+  const PileShape shape = measure_pile(w, 2.0 * scene.grains.mean_diameter);
+  const StepProfile& prof = w.profile();
+  nlohmann::json r;
+  r["particles"] = w.active_grains().size();
+  r["poured"] = p.state().poured;
+  r["lost"] = p.state().lost;
+  r["pour_stalled"] = p.state().pour_stalled;
+  r["height_m"] = shape.height;
+  r["apex_x_m"] = shape.apex_x;
+  r["repose_angle_left_deg"] = shape.repose_left_deg;
+  r["repose_angle_right_deg"] = shape.repose_right_deg;
+  r["repose_fit_points"] = {shape.left_points, shape.right_points};
+  r["simulated_time_s"] = w.time();
+  r["steps"] = w.steps();
+  r["wall_time_s"] = c.wall_time;
+  r["particle_steps_per_s"] = c.wall_time > 0 ? c.particle_steps / c.wall_time : 0.0;
+  r["kinetic_energy_final_J"] = w.kinetic_energy();
+  r["contacts_final"] = w.contacts().size();
+  r["time_step_s"] = w.settings().time_step;
+  r["stable_time_step_s"] = p.time_step_bound().stable_limit;
+  r["integrator"] = scheme_name(scene.scheme);
+  r["threads"] = threads;
+  r["cores"] = std::thread::hardware_concurrency();
+  r["snapshots"] = nlohmann::json::array();
+  for (const Snapshot& s : p.snapshots()) r["snapshots"].push_back(s.name);
+  r["profile_s"] = {{"predict", prof.predict},         {"geometry", prof.geometry},
+                    {"broad_phase", prof.broad_phase}, {"narrow_phase", prof.narrow_phase},
+                    {"correct", prof.correct}};
+  return r;
+}
+}  // namespace
+
+nlohmann::json run_dem(const DemRunOptions& opt) {
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  reader.get_string("scene.name", "");
+  reader.get_string("scene.description", "");
+  const DemScene scene = read_dem_scene(reader);
+  reader.reject_unknown({"scene", "dem"}, scene_tables);
+
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out_dir, ec);
+  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+#ifdef _OPENMP
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const int threads = omp_get_max_threads();
+#else
+  const int threads = 1;
+#endif
+
+  PileProtocol protocol(scene, opt.scene_path);
+  RunCounters counters;
+  const std::string checkpoint_path = opt.out_dir + "/checkpoint.h5";
+  FrameWriter frames(opt.out_dir);
+  if (opt.restart) {
+    read_checkpoint(checkpoint_path, reader.text(), protocol, counters);
+    frames.rebuild(counters.frame_times);
+    if (!opt.quiet)
+      std::fprintf(stderr, "restarting from %s at t = %.6f s (step %lld)\n", checkpoint_path.c_str(),
+                   protocol.world().time(), static_cast<long long>(protocol.world().steps()));
+  } else if (!opt.quiet) {
+    const TimeStepBound& b = protocol.time_step_bound();
+    std::fprintf(stderr, "pilelab dem: %d grains, %s, dt = %.3e s (stable limit %.3e s), %d thread(s)\n",
+                 scene.grain_count, scheme_name(scene.scheme), protocol.world().settings().time_step, b.stable_limit,
+                 threads);
+  }
+
+  World& world = protocol.world();
+  const OutputSpec& out = scene.output;
+  auto session_start = Clock::now(), last_progress = session_start;
+  std::int64_t progress_steps = world.steps(), progress_grain_steps = counters.particle_steps;
+  double progress_time = world.time();
+  const std::int64_t first_step = world.steps();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - session_start).count(); };
+  const double wall_before = counters.wall_time;
+
+  while (!protocol.done()) {
+    protocol.step();
+    counters.particle_steps += static_cast<std::int64_t>(world.active_grains().size());
+    if (out.frame_interval > 0 && world.time() >= counters.frame_times.size() * out.frame_interval)
+      frames.write(world, counters.frame_times);
+    const bool stop_now = opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps;
+    if ((out.checkpoint_interval > 0 && world.time() >= (counters.checkpoints + 1) * out.checkpoint_interval) ||
+        stop_now) {
+      ++counters.checkpoints;
+      counters.wall_time = wall_before + elapsed();
+      write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
+    }
+    if (stop_now) {
+      if (!opt.quiet) std::fprintf(stderr, "stopped after %lld steps as asked; continue with --restart\n",
+                                   static_cast<long long>(opt.stop_after_steps));
+      return nlohmann::json::object();
+    }
+    if (!opt.quiet && (world.steps() & 255) == 0) {
+      const auto now = Clock::now();
+      const double dt_wall = std::chrono::duration<double>(now - last_progress).count();
+      if (dt_wall >= out.progress_interval) {
+        print_progress(protocol, (world.steps() - progress_steps) / dt_wall,
+                       (counters.particle_steps - progress_grain_steps) / dt_wall,
+                       (world.time() - progress_time) / dt_wall);
+        last_progress = now;
+        progress_steps = world.steps();
+        progress_grain_steps = counters.particle_steps;
+        progress_time = world.time();
+      }
+    }
+  }
+  counters.wall_time = wall_before + elapsed();
+  frames.write(world, counters.frame_times);
+
+  nlohmann::json run_info;
+  run_info["seed"] = scene.seed;
+  run_info["time_step_s"] = world.settings().time_step;
+  run_info["integrator"] = scheme_name(scene.scheme);
+  run_info["scene_file"] = opt.scene_path;
+  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), run_info);
+  nlohmann::json report = dem_report(protocol, counters, threads);
+  write_report_section(opt.out_dir + "/report.json", "dem", report);
+  if (!opt.quiet)
+    std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",
+                 world.active_grains().size(), report["height_m"].get<double>(),
+                 report["repose_angle_left_deg"].is_number() ? report["repose_angle_left_deg"].get<double>() : NAN,
+                 report["repose_angle_right_deg"].is_number() ? report["repose_angle_right_deg"].get<double>() : NAN,
+                 counters.wall_time, report["particle_steps_per_s"].get<double>());
+  return report;
+}
+
+}  // namespace pilelab::dem

@@ -30,7 +30,8 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
                       const RunCounters& counters) {
   const World& world = protocol.world();
   if (!protocol.snapshots().empty())
-    write_dem_file(snapshots_path(path), scene_text, world, protocol.snapshots(), nlohmann::json::object());
+    write_dem_file(snapshots_path(path), scene_text, world, protocol.snapshots(), protocol.wall_placements(),
+                   nlohmann::json::object());
   write_atomically(path, [&](const std::string& tmp) {
     H5File f = H5File::create(tmp);
     f.write_string("/scene", scene_text);
@@ -145,14 +146,18 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   for (int k = 0; k < 4; ++k) s.rng[k] = rng[k];
 
   std::vector<Snapshot> snapshots;
+  std::vector<WallPlacement> walls;
   const std::int64_t snapshot_count = f.attribute_int("/counters", "snapshots");
   if (snapshot_count > 0) {
     const DemFile done = read_dem_file(snapshots_path(path));
     if (static_cast<std::int64_t>(done.snapshot_names.size()) < snapshot_count)
       throw InputError(snapshots_path(path) + ": holds fewer snapshots than the checkpoint names");
-    for (std::int64_t k = 0; k < snapshot_count; ++k) snapshots.push_back(done.snapshot(done.snapshot_names[k]));
+    for (std::int64_t k = 0; k < snapshot_count; ++k) {
+      snapshots.push_back(done.snapshot(done.snapshot_names[k]));
+      walls.push_back(done.walls(done.snapshot_names[k]));
+    }
   }
-  protocol.restore(s, std::move(snapshots));
+  protocol.restore(s, std::move(snapshots), std::move(walls));
 
   counters.particle_steps = f.attribute_int("/counters", "particle_steps");
   counters.wall_time = f.attribute_double("/counters", "wall_time");

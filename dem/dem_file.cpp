@@ -335,8 +335,9 @@ Snapshot DemFile::snapshot(const std::string& name) const {
   s.body = read_ints_defining_count(f, g + "/body", 1, n);
   if (f.attribute_int(g, "grain_count") != static_cast<std::int64_t>(n))
     fail(path, g, "attribute grain_count does not match the length of " + g + "/body");
+  const std::int64_t first_grain = wall_count();
   for (std::int64_t b : s.body)
-    if (b < wall_count() || b >= body_count())
+    if (b < first_grain || b >= body_count())
       fail(path, g + "/body", "grain index " + std::to_string(b) + " is not a grain of /bodies");
   s.position = read_doubles(f, g + "/position", {n, 2});
   s.angle = read_doubles(f, g + "/angle", {n});

@@ -40,8 +40,9 @@ void write_dem_file(const std::string& path, const std::string& scene_text, cons
 
 /// As above, with each snapshot's wall placement reconstructed from the walls' state now:
 /// position - velocity * (world.time() - snapshot.time). Exact for fixed walls; for walls that
-/// kept one velocity it differs from the stepped position only by rounding. A run that changes
-/// a wall's velocity must use the overload with explicit placements.
+/// kept one velocity it differs from the stepped position only by rounding. Wrong for a wall
+/// whose velocity changed after a snapshot was taken (a funnel that stopped: the snapshot gets
+/// the final position); such runs must use the overload with explicit placements.
 void write_dem_file(const std::string& path, const std::string& scene_text, const World& world,
                     const std::vector<Snapshot>& snapshots, const nlohmann::json& run_info);
 

@@ -27,8 +27,10 @@ void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt
   auto& d = m.d;
   if (s == Scheme::gear5) {
     const double h = dt, h2 = h * h / 2.0, h3 = h2 * h / 3.0, h4 = h3 * h / 4.0, h5 = h4 * h / 5.0;
-    for (int i : bodies)
-      for (int c = 3 * i; c < 3 * i + 3; ++c) {
+    const int n = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k)
+      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
         d[0][c] += h * d[1][c] + h2 * d[2][c] + h3 * d[3][c] + h4 * d[4][c] + h5 * d[5][c];
         d[1][c] += h * d[2][c] + h2 * d[3][c] + h3 * d[4][c] + h4 * d[5][c];
@@ -56,8 +58,10 @@ void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const s
     const double c3 = gear_alpha[3] * 3.0 / dt;
     const double c4 = gear_alpha[4] * 12.0 / (dt * dt);
     const double c5 = gear_alpha[5] * 60.0 / (dt * dt * dt);
-    for (int i : bodies)
-      for (int c = 3 * i; c < 3 * i + 3; ++c) {
+    const int n = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k)
+      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         const double delta = accel[c] - d[2][c];
         d[0][c] += c0 * delta;
         d[1][c] += c1 * delta;

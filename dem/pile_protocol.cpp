@@ -146,6 +146,7 @@ void PileProtocol::remove_lost_grains() {
 
 void PileProtocol::finish_settling(const std::string& snapshot_name, Phase next) {
   snapshots_.push_back(take_snapshot(world_, snapshot_name));
+  wall_placements_.push_back(take_wall_placement(world_));
   state_.phase = next;
   state_.phase_start = world_.time();
 }
@@ -199,10 +200,12 @@ void PileProtocol::step() {
   }
 }
 
-void PileProtocol::restore(const ProtocolState& state, std::vector<Snapshot> snapshots) {
+void PileProtocol::restore(const ProtocolState& state, std::vector<Snapshot> snapshots,
+                           std::vector<WallPlacement> walls) {
   state_ = state;
   rng_.set_state(state.rng);
   snapshots_ = std::move(snapshots);
+  wall_placements_ = std::move(walls);
 }
 
 }  // namespace pilelab::dem

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "common/rng.h"
+#include "dem/dem_file.h"
 #include "dem/dem_scene.h"
 #include "dem/snapshot.h"
 #include "dem/time_step.h"
@@ -48,11 +49,13 @@ class PileProtocol {
   const TimeStepBound& time_step_bound() const { return bound_; }
   const ProtocolState& state() const { return state_; }
   const std::vector<Snapshot>& snapshots() const { return snapshots_; }
+  /// Where the walls were at each snapshot (the funnel may have moved since).
+  const std::vector<WallPlacement>& wall_placements() const { return wall_placements_; }
   /// Mean kinetic energy per active grain [J].
   double kinetic_energy_per_grain() const;
 
   /// For checkpoints.
-  void restore(const ProtocolState& state, std::vector<Snapshot> snapshots);
+  void restore(const ProtocolState& state, std::vector<Snapshot> snapshots, std::vector<WallPlacement> walls);
 
   static constexpr int check_interval = 64;  ///< steps between settling/loss checks
 
@@ -72,6 +75,7 @@ class PileProtocol {
   std::vector<int> funnel_walls_;
   int first_grain_ = 0;
   std::vector<Snapshot> snapshots_;
+  std::vector<WallPlacement> wall_placements_;
 };
 
 }  // namespace pilelab::dem

@@ -191,7 +191,8 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   run_info["time_step_s"] = world.settings().time_step;
   run_info["integrator"] = scheme_name(scene.scheme);
   run_info["scene_file"] = opt.scene_path;
-  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), run_info);
+  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
+                 run_info);
   nlohmann::json report = dem_report(protocol, counters, threads);
   write_report_section(opt.out_dir + "/report.json", "dem", report);
   if (!opt.quiet)

@@ -53,10 +53,11 @@ std::ostringstream make_stream(int precision) {
   return s;
 }
 
-// Values one tuple per line. The element always has text (at least a newline): some readers
-// fail on an empty element.
+// Values one tuple per line (scalars a dozen per line). The element always has text (at least
+// a newline): some readers fail on an empty element.
 template <class T>
-void write_values(std::ostream& out, const std::vector<T>& values, int per_line) {
+void write_values(std::ostream& out, const std::vector<T>& values, int components) {
+  const std::size_t per_line = components == 1 ? 12 : static_cast<std::size_t>(components);
   out << "\n";
   for (std::size_t i = 0; i < values.size(); ++i) out << values[i] << ((i + 1) % per_line == 0 ? "\n" : " ");
   if (values.size() % per_line != 0) out << "\n";
@@ -64,8 +65,11 @@ void write_values(std::ostream& out, const std::vector<T>& values, int per_line)
 
 void write_data_array(std::ostream& out, const std::string& name, const std::string& type, int components,
                       const std::vector<std::int64_t>* ints, const std::vector<double>* reals) {
-  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\"" << components
-      << "\" format=\"ascii\">";
+  // Scalars without NumberOfComponents, as VTK itself writes them (meshio reads a stated 1
+  // as an (n, 1) array).
+  out << "        <DataArray type=\"" << type << "\" Name=\"" << name << "\"";
+  if (components != 1) out << " NumberOfComponents=\"" << components << "\"";
+  out << " format=\"ascii\">";
   if (ints) write_values(out, *ints, components);
   if (reals) write_values(out, *reals, components);
   out << "        </DataArray>\n";

@@ -8,6 +8,10 @@
 
 #include "dem/convex_overlap.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace pilelab::dem {
 
 namespace {
@@ -168,7 +172,9 @@ void World::check_finite() const {
 }
 
 void World::place_shapes() {
-  for (int i : active_grains_) place_body(i);
+  const int n = static_cast<int>(active_grains_.size());
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) place_body(active_grains_[k]);
   for (int w : moving_walls_) place_body(w);
 }
 
@@ -227,22 +233,42 @@ void World::find_candidate_pairs() {
     std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (int i : active_grains_) cell_bodies_[fill[body_cell_[i]]++] = i;  // ascending within a cell
   }
-  for (int i : active_grains_) {
-    const std::size_t first = candidates_.size();
-    const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
-    const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius;
-    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
-      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x) {
-        const int c = y * nx + x;
-        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-          const int j = cell_bodies_[k];
-          if (j <= i) continue;
-          const double dx = motion_.d[0][3 * j] - xi, dy = motion_.d[0][3 * j + 1] - yi;
-          const double r = ri + shapes_[j].bounding_radius;
-          if (dx * dx + dy * dy < r * r) candidates_.push_back(pair_key(i, j));
+  // Pairs are listed per grain i (j > i, sorted), so concatenating the per-thread lists of
+  // consecutive blocks of grains gives the same sorted list whatever the thread count.
+  const int n_active = static_cast<int>(active_grains_.size());
+#pragma omp parallel
+  {
+    std::vector<std::uint64_t> local;
+#ifdef _OPENMP
+    const int nt = omp_get_num_threads(), t = omp_get_thread_num();
+#else
+    const int nt = 1, t = 0;
+#endif
+    const int begin = static_cast<int>(static_cast<long long>(n_active) * t / nt);
+    const int end = static_cast<int>(static_cast<long long>(n_active) * (t + 1) / nt);
+    for (int idx = begin; idx < end; ++idx) {
+      const int i = active_grains_[idx];
+      const std::size_t first = local.size();
+      const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
+      const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius;
+      for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
+        for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x) {
+          const int c = y * nx + x;
+          for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+            const int j = cell_bodies_[k];
+            if (j <= i) continue;
+            const double dx = motion_.d[0][3 * j] - xi, dy = motion_.d[0][3 * j + 1] - yi;
+            const double r = ri + shapes_[j].bounding_radius;
+            if (dx * dx + dy * dy < r * r) local.push_back(pair_key(i, j));
+          }
         }
-      }
-    std::sort(candidates_.begin() + first, candidates_.end());
+      std::sort(local.begin() + first, local.end());
+    }
+#pragma omp for ordered schedule(static, 1)
+    for (int k = 0; k < nt; ++k) {
+#pragma omp ordered
+      candidates_.insert(candidates_.end(), local.begin(), local.end());
+    }
   }
 }
 

@@ -35,16 +35,24 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   }
   if (m < 3) return o;
 
+  // The shoelace sums are taken about a vertex of the overlap, not the world origin. Fix: in
+  // world coordinates every cross product carries a rounding error of order eps |p|^2, which for
+  // grains away from the origin swamps the area of a shallow overlap (a contact 1e-9 deep at
+  // |p| = 3 came out with zero area, with the boundaries crossing twice). About a local vertex
+  // the error scales with the overlap's own size, so the result no longer depends on where the
+  // pair sits in the world.
+  const Vec2 origin = w[0].p;
   double a2 = 0.0, cx = 0.0, cy = 0.0;
   Vec2 s_a(0, 0), s_b(0, 0), crossing_sum(0, 0);
   Vec2 first_crossing(0, 0), second_crossing(0, 0);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = w[i].p;
     const Vec2& q = w[(i + 1) % m].p;
-    const double c = cross(p, q);
+    const Vec2 p_local = p - origin, q_local = q - origin;
+    const double c = cross(p_local, q_local);
     a2 += c;
-    cx += (p.x() + q.x()) * c;
-    cy += (p.y() + q.y()) * c;
+    cx += (p_local.x() + q_local.x()) * c;
+    cy += (p_local.y() + q_local.y()) * c;
     if (w[i].owner == owner_a) s_a += outward(q - p);
     if (w[i].owner == owner_b) s_b += outward(q - p);
     const int incoming = w[(i + m - 1) % m].owner;
@@ -58,7 +66,7 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   const double area = 0.5 * a2;
   if (!(area > 0.0)) return o;
   o.area = area;
-  const Vec2 centroid(cx / (3.0 * a2), cy / (3.0 * a2));
+  const Vec2 centroid = origin + Vec2(cx / (3.0 * a2), cy / (3.0 * a2));
   const Vec2 s = s_a - s_b;
   const double s_norm = s.norm();
   o.chord = 0.5 * s_norm;
@@ -124,6 +132,30 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   return finish(buf[cur].data(), n, length_tol, centroid_a, centroid_b);
 }
 
+namespace {
+// Area of the segment cut from a disc of radius r by a chord at signed distance x from the
+// centre (x < 0: more than half the disc), given the segment's height g = r - x and the
+// half-chord h, both computed by the caller without cancellation.
+double circular_segment_area(double r, double x, double g, double h) {
+  const double s = h / r;  // sine of the half-angle theta
+  if (x > 0.0 && s < 0.5) {
+    // Thin segment. The textbook r^2 theta - x h subtracts two nearly equal numbers: its
+    // relative error grows like eps / theta^4. With cos theta = 1 - g / r it equals
+    // r^2 (asin s - s) + h g exactly, and asin s - s is summed from its Taylor series, whose
+    // terms are all positive and shrink at least fourfold each.
+    const double s2 = s * s;
+    double term = s, sum = 0.0;
+    for (int k = 1; k < 40; ++k) {
+      term *= s2 * double((2 * k - 1) * (2 * k - 1)) / double((2 * k) * (2 * k + 1));
+      sum += term;
+      if (term <= 1e-17 * sum) break;
+    }
+    return r * r * sum + h * g;
+  }
+  return r * r * std::atan2(h, x) - x * h;  // theta > 30 degrees: the cancellation is mild
+}
+}  // namespace
+
 Overlap overlap_discs(const Vec2& ca, double ra, const Vec2& cb, double rb) {
   Overlap o;
   const Vec2 d = cb - ca;
@@ -137,14 +169,19 @@ Overlap overlap_discs(const Vec2& ca, double ra, const Vec2& cb, double rb) {
     o.point = ra < rb ? ca : cb;
     return o;
   }
-  // Distance from ca to the chord, and the half-chord.
-  const double x = (dist * dist + ra * ra - rb * rb) / (2.0 * dist);
-  const double h = std::sqrt(std::max(0.0, ra * ra - x * x));
-  // Lens area: two circular segments.
-  const double seg_a = ra * ra * std::acos(std::clamp(x / ra, -1.0, 1.0)) - x * h;
-  const double xb = dist - x;
-  const double seg_b = rb * rb * std::acos(std::clamp(xb / rb, -1.0, 1.0)) - xb * h;
-  o.area = seg_a + seg_b;
+  // Fix: the lens used to be ra^2 acos(x/ra) - x h + (same for b) with x and h from the
+  // law of cosines, which for a shallow overlap cancels catastrophically (area wrong by a
+  // factor 66 at a depth of 1e-9 radii, off by orders of magnitude below). The segment heights
+  // g = r - x follow from the overlap depth without cancellation, and each segment's area from
+  // circular_segment_area.
+  const double depth = (ra + rb) - dist;
+  const double g_a = depth * (dist + rb - ra) / (2.0 * dist);  // ra - x, x: distance from ca to the chord
+  const double g_b = depth * (dist + ra - rb) / (2.0 * dist);  // rb - (dist - x)
+  // h^2 = g (2 r - g) for either disc; the thinner segment's factor 2 r - g cannot cancel.
+  const double h2 = (g_a * rb <= g_b * ra) ? g_a * (2.0 * ra - g_a) : g_b * (2.0 * rb - g_b);
+  const double h = std::sqrt(std::max(0.0, h2));
+  const double x = ra - g_a;
+  o.area = circular_segment_area(ra, x, g_a, h) + circular_segment_area(rb, rb - g_b, g_b, h);
   o.chord = 2.0 * h;
   o.point = ca + x * o.normal;
   o.crossings = 2;
@@ -173,12 +210,8 @@ double disc_triangle_area(Vec2 p, Vec2 q, double r) {
 
 Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, const Vec2& centroid_b) {
   Overlap o;
-  double area = 0.0, scale = r * r;
-  for (int k = 0; k < nb; ++k) {
-    area += disc_triangle_area(b[k] - c, b[(k + 1) % nb] - c, r);
-    scale = std::max(scale, (b[(k + 1) % nb] - b[k]).squaredNorm());
-  }
-  if (!(area > 0.0)) return o;
+  double scale = r * r;
+  for (int k = 0; k < nb; ++k) scale = std::max(scale, (b[(k + 1) % nb] - b[k]).squaredNorm());
   const double length_tol = 1e-12 * std::sqrt(scale);
   // The polygon's boundary inside the disc: its outward-normal integral S_b, and the points
   // where the boundary crosses the circle.
@@ -202,6 +235,28 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
         ++crossings;
       }
   }
+  if (crossings == 0) {
+    // The boundaries do not cross: disjoint, disc inside the polygon, or polygon inside the
+    // disc. Decide exactly rather than trust a sum of sectors that cancels to round-off.
+    bool centre_inside = true;
+    for (int k = 0; k < nb && centre_inside; ++k) centre_inside = cross(b[(k + 1) % nb] - b[k], c - b[k]) > 0.0;
+    if (centre_inside) {
+      o.area = M_PI * r * r;
+    } else if ((b[0] - c).squaredNorm() < r * r) {
+      double a2 = 0.0;
+      for (int k = 0; k < nb; ++k) a2 += cross(b[k], b[(k + 1) % nb]);
+      o.area = 0.5 * a2;
+    } else {
+      return o;
+    }
+    const Vec2 d = centroid_b - c;
+    o.normal = d.norm() > length_tol ? Vec2(d / d.norm()) : Vec2(0.0, 1.0);
+    o.point = centre_inside ? c : centroid_b;
+    return o;
+  }
+  double area = 0.0;
+  for (int k = 0; k < nb; ++k) area += disc_triangle_area(b[k] - c, b[(k + 1) % nb] - c, r);
+  if (!(area > 0.0)) return o;
   o.area = area;
   o.crossings = crossings;
   const double s_norm = s_b.norm();
@@ -213,11 +268,7 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
     const Vec2 d = centroid_b - c;
     o.normal = d.norm() > length_tol ? Vec2(d / d.norm()) : Vec2(0.0, 1.0);
   }
-  if (crossings == 2) {
-    o.point = 0.5 * (crossing[0] + crossing[1]);
-  } else {
-    o.point = crossings > 0 ? Vec2(crossing_sum / crossings) : c;
-  }
+  o.point = crossings == 2 ? Vec2(0.5 * (crossing[0] + crossing[1])) : Vec2(crossing_sum / crossings);
   return o;
 }
 

@@ -28,7 +28,7 @@ void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt
   if (s == Scheme::gear5) {
     const double h = dt, h2 = h * h / 2.0, h3 = h2 * h / 3.0, h4 = h3 * h / 4.0, h5 = h4 * h / 5.0;
     const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= 256)
     for (int k = 0; k < n; ++k)
       for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
@@ -59,7 +59,7 @@ void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const s
     const double c4 = gear_alpha[4] * 12.0 / (dt * dt);
     const double c5 = gear_alpha[5] * 60.0 / (dt * dt * dt);
     const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= 256)
     for (int k = 0; k < n; ++k)
       for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         const double delta = accel[c] - d[2][c];

@@ -17,6 +17,8 @@ namespace pilelab::dem {
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// Below this many grains (or pairs) a parallel region costs more than it saves.
+constexpr int parallel_threshold = 256;
 std::uint64_t pair_key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
 }  // namespace
 
@@ -173,7 +175,7 @@ void World::check_finite() const {
 
 void World::place_shapes() {
   const int n = static_cast<int>(active_grains_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) place_body(active_grains_[k]);
   for (int w : moving_walls_) place_body(w);
 }
@@ -236,7 +238,7 @@ void World::find_candidate_pairs() {
   // Pairs are listed per grain i (j > i, sorted), so concatenating the per-thread lists of
   // consecutive blocks of grains gives the same sorted list whatever the thread count.
   const int n_active = static_cast<int>(active_grains_.size());
-#pragma omp parallel
+#pragma omp parallel if (n_active >= parallel_threshold)
   {
     std::vector<std::uint64_t> local;
 #ifdef _OPENMP
@@ -288,7 +290,7 @@ void World::collide_and_compute_forces() {
   const double dt = settings_.time_step;
 
   // Each candidate pair is independent: collide and evaluate the contact law in parallel.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= static_cast<std::size_t>(parallel_threshold))
   for (std::size_t c = 0; c < n; ++c) {
     const int a = static_cast<int>(candidates_[c] >> 32), b = static_cast<int>(candidates_[c] & 0xffffffffu);
     const Shape& sa = shapes_[a];

@@ -1,0 +1,55 @@
+#pragma once
+// Runs the pilelab command on scenes written into a fresh temporary directory.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace pilelab::test {
+
+inline std::string tiny_scene() {
+  std::ifstream in(std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny.toml");
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() /
+           ("pilelab_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) std::filesystem::remove_all(dir_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write_scene(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  CommandResult run(const std::string& args) const {
+    const std::string log = path("command.log");
+    const std::string cmd = std::string(PILELAB_BINARY) + " " + args + " > " + log + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(log);
+    std::stringstream s;
+    s << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
+  }
+  std::filesystem::path dir_;
+};
+
+}  // namespace pilelab::test

@@ -1,0 +1,106 @@
+// Every way a scene or a restart can be wrong gives a clear message that names the file and
+// the field, and a non-zero exit, never a crash or a silent run.
+#include <regex>
+
+#include "cli_test_support.h"
+
+using pilelab::test::CliTest;
+using pilelab::test::tiny_scene;
+
+namespace {
+// The tiny scene with one line replaced (or appended when `from` is empty).
+std::string edited(const std::string& from, const std::string& to) {
+  std::string s = tiny_scene();
+  if (from.empty()) return s + "\n" + to + "\n";
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+}  // namespace
+
+class SceneErrors : public CliTest {
+ protected:
+  void expect_error(const std::string& scene_text, const std::string& message) {
+    const std::string scene = write_scene("scene.toml", scene_text);
+    const auto r = run("dem " + scene + " -o " + path("out") + " -q");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(scene), std::string::npos) << "message does not name the file: " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << "expected '" << message << "' in: " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(path("out/dem.h5")));
+  }
+};
+
+TEST_F(SceneErrors, UnknownKeyIsNamedWithTheKnownOnes) {
+  expect_error(edited("grain_count = 40", "grain_count = 40\ngrain_cuont = 3"),
+               "unknown key 'dem.grain_cuont'");
+}
+
+TEST_F(SceneErrors, UnknownTableIsNamed) {
+  expect_error(edited("", "[dem.grain]\nshape = \"disc\""), "unknown key 'dem.grain.shape'");
+}
+
+TEST_F(SceneErrors, UnknownTopLevelTableIsNamed) {
+  expect_error(edited("", "[dme]\nseed = 1"), "unknown top-level key or table 'dme'");
+}
+
+TEST_F(SceneErrors, OutOfRangeValueStatesTheRange) {
+  expect_error(edited("", "[dem.contact]\nfriction_mu = -0.5"),
+               "dem.contact.friction_mu: -0.5 is out of range: expected 0 <= value <= 10");
+}
+
+TEST_F(SceneErrors, WrongTypeIsNamed) {
+  expect_error(edited("grain_count = 40", "grain_count = \"many\""), "dem.grain_count: expected an integer");
+}
+
+TEST_F(SceneErrors, UnknownChoiceListsTheChoices) {
+  expect_error(edited("scheme = \"verlet\"", "scheme = \"rk4\""),
+               "dem.integrator.scheme: \"rk4\" is not one of \"gear5\", \"verlet\"");
+}
+
+TEST_F(SceneErrors, InconsistentCornerRange) {
+  expect_error(edited("", "[dem.grains]\ncorners_min = 8\ncorners_max = 6"), "is below dem.grains.corners_min");
+}
+
+TEST_F(SceneErrors, TimeStepAboveTheStabilityLimitIsRefused) {
+  expect_error(edited("scheme = \"verlet\"", "scheme = \"verlet\"\ntime_step_s = 1e-3"),
+               "dem.integrator.time_step_s = 0.001 s exceeds the stability limit");
+}
+
+TEST_F(SceneErrors, InvalidTomlGivesTheLine) {
+  expect_error(edited("grain_count = 40", "grain_count = = 40"), "not valid TOML");
+}
+
+TEST_F(SceneErrors, CornerCountOutOfRange) {
+  expect_error(edited("", "[dem.grains]\ncorners_max = 65"), "dem.grains.corners_max: 65 is out of range: expected 3 <= value <= 64");
+}
+
+TEST_F(SceneErrors, MissingSceneFile) {
+  const auto r = run("dem " + path("nowhere.toml") + " -o " + path("out"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("nowhere.toml"), std::string::npos) << r.output;
+}
+
+TEST_F(SceneErrors, RestartWithoutCheckpoint) {
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("no checkpoint to restart from"), std::string::npos) << r.output;
+}
+
+TEST_F(SceneErrors, RestartWithAChangedSceneIsRefused) {
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("out") + " -q --stop-after-steps 200").exit_code, 0);
+  write_scene("scene.toml", edited("seed = 3", "seed = 4"));
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("written for a different scene"), std::string::npos) << r.output;
+}
+
+TEST_F(SceneErrors, CorruptCheckpointIsNamed) {
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  std::filesystem::create_directories(path("out"));
+  std::ofstream(path("out/checkpoint.h5")) << "not an hdf5 file";
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("checkpoint.h5: not an HDF5 file"), std::string::npos) << r.output;
+}

@@ -1,0 +1,111 @@
+// The world step: the broad phase finds every touching pair, results do not depend on the
+// number of threads, and free flight is exact.
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include "common/rng.h"
+#include "dem/convex_overlap.h"
+#include "dem/grain_generator.h"
+#include "dem/time_step.h"
+#include "dem/world.h"
+
+using namespace pilelab;
+using namespace pilelab::dem;
+
+namespace {
+// A dense random heap of grains of very different sizes over a plate, overlapping a little.
+World random_heap(int grains, std::uint64_t seed, Vec2 gravity) {
+  WorldSettings s;
+  s.scheme = Scheme::verlet;
+  s.gravity = gravity;
+  Rng rng(seed);
+  std::vector<Shape> shapes;
+  GrainSpec spec;
+  spec.polydispersity = 0.9;
+  for (int i = 0; i < grains; ++i) {
+    spec.kind = (i % 7 == 0) ? ShapeKind::disc : ShapeKind::polygon;
+    spec.mean_diameter = (i % 50 == 0) ? 0.03 : 0.0068;  // a few grains four times larger
+    shapes.push_back(random_grain(spec, rng));
+  }
+  s.time_step = 0.5 * stable_time_step(shapes, 5000.0, s.contact, s.scheme).stable_limit;
+  World w(s);
+  w.add_wall(make_polygon({{-0.3, -0.01}, {0.3, -0.01}, {0.3, 0.0}, {-0.3, 0.0}}), {0, 0}, 0.0);
+  const int per_row = static_cast<int>(std::sqrt(grains)) + 1;
+  for (int i = 0; i < grains; ++i) {
+    const int id = w.add_grain(shapes[i], 5000.0);
+    const Vec2 p(-0.2 + 0.4 * (i % per_row) / per_row + rng.uniform(-0.002, 0.002),
+                 0.003 + 0.006 * (i / per_row) + rng.uniform(-0.002, 0.002));
+    w.activate(id, p, rng.uniform(0.0, 2 * M_PI), {rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1)}, 0.0);
+  }
+  return w;
+}
+
+Overlap brute_force_overlap(const World& w, int a, int b) {
+  const Shape& sa = w.shape(a);
+  const Shape& sb = w.shape(b);
+  if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc)
+    return overlap_discs(w.position(a), sa.radius, w.position(b), sb.radius);
+  if (sa.kind == ShapeKind::disc)
+    return overlap_disc_polygon(w.position(a), sa.radius, w.corners(b), w.corner_count(b), w.position(b));
+  if (sb.kind == ShapeKind::disc)
+    return overlap_disc_polygon(w.position(b), sb.radius, w.corners(a), w.corner_count(a), w.position(a));
+  return overlap_polygons(w.corners(a), w.corner_count(a), w.position(a), w.corners(b), w.corner_count(b), w.position(b));
+}
+}  // namespace
+
+TEST(World, BroadPhaseNeverMissesATouchingPair) {
+  World w = random_heap(600, 11, {0, 0});
+  w.step();  // contacts are found at the predicted positions, which corners() shows
+  std::set<std::pair<int, int>> found;
+  for (const Contact& c : w.contacts()) found.insert({c.a, c.b});
+  std::set<std::pair<int, int>> expected;
+  for (int a = 0; a < w.body_count(); ++a)
+    for (int b = std::max(a + 1, w.wall_count()); b < w.body_count(); ++b)
+      if (brute_force_overlap(w, a, b).touching()) expected.insert({a, b});
+  EXPECT_GT(expected.size(), 300u);  // the heap really is dense
+  EXPECT_EQ(found, expected);
+}
+
+TEST(World, ResultsDoNotDependOnTheThreadCount) {
+  auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    World w = random_heap(400, 5, {0, -9.81});  // above the size where the loops go parallel
+    for (int k = 0; k < 100; ++k) w.step();
+    return w.motion().d;
+  };
+  const auto one = run(1), two = run(2);
+  omp_set_num_threads(2);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(one[k], two[k]) << "derivative " << k;
+}
+
+TEST(World, FreeFlightIsExactForBothSchemes) {
+  // Constant acceleration: both schemes integrate a parabola exactly (up to round-off).
+  for (Scheme scheme : {Scheme::gear5, Scheme::verlet}) {
+    WorldSettings s;
+    s.scheme = scheme;
+    s.time_step = 1e-4;
+    World w(s);
+    const int g = w.add_grain(make_disc(0.003), 5000.0);
+    const Vec2 p0(0.0, 1.0), v0(0.3, 0.5);
+    w.activate(g, p0, 0.0, v0, 2.0);
+    for (int k = 0; k < 5000; ++k) w.step();
+    const double t = w.time();
+    const Vec2 exact = p0 + v0 * t + 0.5 * s.gravity * t * t;
+    EXPECT_NEAR((w.position(g) - exact).norm(), 0.0, 1e-12) << scheme_name(scheme);
+    EXPECT_NEAR(w.angle(g), 2.0 * t, 1e-12) << scheme_name(scheme);
+  }
+}
+
+TEST(World, DeactivatedGrainLosesItsContacts) {
+  World w = random_heap(200, 3, {0, 0});
+  w.step();
+  ASSERT_FALSE(w.contacts().empty());
+  const int gone = w.contacts().front().b;
+  w.deactivate(gone);
+  for (const Contact& c : w.contacts()) EXPECT_TRUE(c.a != gone && c.b != gone);
+  w.step();
+  for (const Contact& c : w.contacts()) EXPECT_TRUE(c.a != gone && c.b != gone);
+}

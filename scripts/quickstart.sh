@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up and builds, then pours the bundled quick scene into out/quick/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+./build/apps/pilelab dem scenes/quick.toml -o out/quick
+echo "Results in out/quick/: report.json, dem.h5, dem.pvd (open in ParaView)"

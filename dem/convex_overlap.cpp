@@ -86,6 +86,15 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
 
 Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                          const Vec2& centroid_b) {
+  // Cheap rejection first: most pairs the broad phase hands over whose bounding circles overlap
+  // but shapes do not are separated along the line of centres (a separating-axis test).
+  {
+    const Vec2 axis = centroid_b - centroid_a;
+    double max_a = -INFINITY, min_b = INFINITY;
+    for (int i = 0; i < na; ++i) max_a = std::max(max_a, axis.dot(a[i]));
+    for (int k = 0; k < nb; ++k) min_b = std::min(min_b, axis.dot(b[k]));
+    if (max_a < min_b) return {};
+  }
   // Sutherland-Hodgman: clip a by each edge's half-plane of b, recording for every output
   // vertex whose boundary its outgoing edge follows.
   ClipPolygon buf[2];

@@ -1,0 +1,87 @@
+// World steps on a dense pile: particle-steps and contacts per second, by phase.
+//
+// With PILELAB_BENCH_PILE=path/to/dem.h5 it loads the "settled" snapshot of that file (e.g. the
+// paper pile from scenes/paper-symmetric.toml); otherwise it builds a dense heap of 6500 paper
+// grains on a plate and lets it fall together for a while first. Threads: OMP_NUM_THREADS.
+#include <cstdlib>
+#include <thread>
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include "common/rng.h"
+#include "dem/dem_file.h"
+#include "dem/grain_generator.h"
+#include "dem/time_step.h"
+#include "dem/world_from_file.h"
+
+using namespace pilelab;
+using namespace pilelab::dem;
+
+namespace {
+WorldSettings paper_settings(Scheme scheme, double stable_limit) {
+  WorldSettings s;  // the defaults are the paper's contact law
+  s.scheme = scheme;
+  s.time_step = 0.8 * stable_limit;
+  return s;
+}
+
+World synthetic_pile(Scheme scheme) {
+  Rng rng(1);
+  GrainSpec spec;
+  std::vector<Shape> shapes;
+  for (int i = 0; i < 6500; ++i) shapes.push_back(random_grain(spec, rng));
+  const double limit = stable_time_step(shapes, 5000.0, ContactParameters{}, scheme).stable_limit;
+  World w(paper_settings(scheme, limit));
+  w.add_wall(make_polygon({{-1.0, -0.02}, {1.0, -0.02}, {1.0, 0.0}, {-1.0, 0.0}}), {0, 0}, 0.0);
+  // A triangle of grains on a 7 mm lattice, like a pile of the paper's size.
+  int placed = 0;
+  for (int row = 0; placed < 6500; ++row)
+    for (int col = -(110 - row); col <= 110 - row && placed < 6500; ++col) {
+      const int id = w.add_grain(shapes[placed], 5000.0);
+      w.activate(id, {0.007 * col + 0.0035 * (row % 2), 0.0045 + 0.0065 * row}, rng.uniform(0, 2 * M_PI), {0, 0}, 0.0);
+      ++placed;
+    }
+  for (int k = 0; k < 3000; ++k) w.step();  // let the lattice collapse into contact
+  return w;
+}
+
+World load_pile(Scheme scheme) {
+  if (const char* path = std::getenv("PILELAB_BENCH_PILE")) {
+    const DemFile f = read_dem_file(path);
+    std::vector<Shape> grains(f.shapes.begin() + f.wall_count(), f.shapes.end());
+    const double density = f.mass.back() / f.shapes.back().area;
+    const double limit = stable_time_step(grains, density, ContactParameters{}, scheme).stable_limit;
+    return world_from_snapshot(f, "settled", paper_settings(scheme, limit));
+  }
+  return synthetic_pile(scheme);
+}
+
+void BM_PileStep(benchmark::State& state) {
+  const Scheme scheme = state.range(0) == 0 ? Scheme::gear5 : Scheme::verlet;
+  World w = load_pile(scheme);
+  const StepProfile before = w.profile();
+  std::size_t contacts = 0;
+  for (auto _ : state) {
+    w.step();
+    contacts += w.contacts().size();
+  }
+  const double grains = double(w.active_grains().size());
+  state.counters["grains"] = grains;
+  state.counters["threads"] = omp_get_max_threads();
+  state.counters["cores"] = std::thread::hardware_concurrency();
+  state.counters["particle_steps_per_s"] =
+      benchmark::Counter(grains * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["contacts_per_s"] = benchmark::Counter(double(contacts), benchmark::Counter::kIsRate);
+  state.counters["contacts_per_grain"] = double(contacts) / (grains * double(state.iterations()));
+  const StepProfile& p = w.profile();
+  const double total = p.total() - before.total();
+  state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;
+  state.counters["share_broad"] = (p.broad_phase - before.broad_phase) / total;
+  state.counters["share_geometry"] = (p.geometry - before.geometry) / total;
+  state.SetLabel(scheme_name(scheme));
+}
+BENCHMARK(BM_PileStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -34,12 +34,13 @@ World synthetic_pile(Scheme scheme) {
   const double limit = stable_time_step(shapes, 5000.0, ContactParameters{}, scheme).stable_limit;
   World w(paper_settings(scheme, limit));
   w.add_wall(make_polygon({{-1.0, -0.02}, {1.0, -0.02}, {1.0, 0.0}, {-1.0, 0.0}}), {0, 0}, 0.0);
-  // A triangle of grains on a 7 mm lattice, like a pile of the paper's size.
+  // A triangle of grains on a lattice wider than the largest grain (7.8 mm), like a pile of the
+  // paper's size, which gravity then packs.
   int placed = 0;
   for (int row = 0; placed < 6500; ++row)
     for (int col = -(110 - row); col <= 110 - row && placed < 6500; ++col) {
       const int id = w.add_grain(shapes[placed], 5000.0);
-      w.activate(id, {0.007 * col + 0.0035 * (row % 2), 0.0045 + 0.0065 * row}, rng.uniform(0, 2 * M_PI), {0, 0}, 0.0);
+      w.activate(id, {0.0082 * col + 0.0041 * (row % 2), 0.0045 + 0.0082 * row}, rng.uniform(0, 2 * M_PI), {0, 0}, 0.0);
       ++placed;
     }
   for (int k = 0; k < 3000; ++k) w.step();  // let the lattice collapse into contact

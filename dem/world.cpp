@@ -96,6 +96,13 @@ void World::set_wall_velocity(int wall, const Vec2& velocity) {
   std::sort(moving_walls_.begin(), moving_walls_.end());
 }
 
+void World::set_time_integration(Scheme scheme, double time_step) {
+  if (scheme != settings_.scheme)
+    for (int k = 3; k < 6; ++k) std::fill(motion_.d[k].begin(), motion_.d[k].end(), 0.0);
+  settings_.scheme = scheme;
+  settings_.time_step = time_step;
+}
+
 void World::deactivate(int body) {
   if (is_wall(body) || !active_[body]) return;
   active_[body] = 0;

@@ -84,6 +84,8 @@ class World {
   std::int64_t steps() const { return steps_; }
   const WorldSettings& settings() const { return settings_; }
   void set_gravity(const Vec2& g) { settings_.gravity = g; }
+  /// Changes scheme and time step between steps; derivatives a scheme does not carry start at 0.
+  void set_time_integration(Scheme scheme, double time_step);
   const StepProfile& profile() const { return profile_; }
   /// Candidate pairs examined in the last step (broad-phase output).
   std::size_t candidate_count() const { return candidates_.size(); }

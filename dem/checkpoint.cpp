@@ -80,6 +80,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "particle_steps", counters.particle_steps);
     f.set_attribute("/counters", "wall_time", counters.wall_time);
     f.set_attribute("/counters", "checkpoints", counters.checkpoints);
+    f.set_attribute("/counters", "last_checkpoint_time", counters.last_checkpoint_time);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
   });
@@ -118,6 +119,10 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   if (b.size() != n || spring.size() != n || point.size() != 2 * n || normal.size() != 2 * n || fn.size() != n ||
       ft.size() != n || area.size() != n || chord.size() != n)
     throw InputError(path + ": /contacts: datasets of inconsistent length");
+  // The contact list must be sorted by pair, with valid bodies: the step relies on both.
+  for (std::size_t i = 0; i < n; ++i)
+    if (a[i] < 0 || a[i] >= b[i] || b[i] >= world.body_count() || (i > 0 && pair_key(int(a[i - 1]), int(b[i - 1])) >= pair_key(int(a[i]), int(b[i]))))
+      throw InputError(path + ": /contacts: entry " + std::to_string(i) + " is not a valid, ordered body pair");
   auto& contacts = world.mutable_contacts();
   contacts.assign(n, Contact{});
   for (std::size_t i = 0; i < n; ++i) {
@@ -134,9 +139,14 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   }
 
   ProtocolState s;
-  s.phase = static_cast<Phase>(f.attribute_int("/protocol", "phase"));
+  const std::int64_t phase = f.attribute_int("/protocol", "phase");
+  if (phase < 0 || phase > static_cast<std::int64_t>(Phase::done))
+    throw InputError(path + ": /protocol: phase " + std::to_string(phase) + " is not a valid phase");
+  s.phase = static_cast<Phase>(phase);
   s.phase_start = f.attribute_double("/protocol", "phase_start");
   s.poured = static_cast<int>(f.attribute_int("/protocol", "poured"));
+  if (s.poured < 0 || s.poured > protocol.scene().grain_count)
+    throw InputError(path + ": /protocol: poured = " + std::to_string(s.poured) + " does not fit this scene");
   s.lost = static_cast<int>(f.attribute_int("/protocol", "lost"));
   s.next_insert_time = f.attribute_double("/protocol", "next_insert_time");
   s.last_insert_time = f.attribute_double("/protocol", "last_insert_time");
@@ -162,6 +172,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   counters.particle_steps = f.attribute_int("/counters", "particle_steps");
   counters.wall_time = f.attribute_double("/counters", "wall_time");
   counters.checkpoints = f.attribute_int("/counters", "checkpoints");
+  counters.last_checkpoint_time = f.attribute_double("/counters", "last_checkpoint_time");
   counters.frame_times = f.read_doubles("/counters/frame_times");
 }
 

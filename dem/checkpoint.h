@@ -14,7 +14,8 @@ struct RunCounters {
   std::int64_t particle_steps = 0;   ///< sum over steps of active grains
   double wall_time = 0.0;            ///< [s] accumulated over all sessions of this run
   std::vector<double> frame_times;   ///< simulated times of the VTK frames written
-  std::int64_t checkpoints = 0;
+  std::int64_t checkpoints = 0;      ///< checkpoints written
+  double last_checkpoint_time = 0.0;  ///< [s] simulated time of the last one
 };
 
 void write_checkpoint(const std::string& path, const std::string& scene_text, const PileProtocol& protocol,

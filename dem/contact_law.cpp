@@ -6,7 +6,10 @@
 namespace pilelab::dem {
 
 double contact_length(const ContactParameters& p, double lever_a, double lever_b) {
-  const double harmonic = lever_a * lever_b / (lever_a + lever_b);
+  // An infinite lever (a wall) leaves the other one: r_a r_b / (r_a + r_b) -> r_b.
+  const double harmonic = std::isinf(lever_a) ? lever_b
+                          : std::isinf(lever_b) ? lever_a
+                                                : lever_a * lever_b / (lever_a + lever_b);
   return p.contact_length == ContactLength::book ? 4.0 * harmonic : harmonic;
 }
 

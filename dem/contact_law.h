@@ -30,7 +30,7 @@ struct ContactKinematics {
   double lever_b;         ///< |force point - centroid of b| [m]
   double approach_speed;  ///< n . (u_a - u_b) at the force point [m/s]; > 0 while approaching
   double slip_speed;      ///< t . (u_a - u_b) at the force point [m/s]
-  double normal_mass;     ///< m_a m_b / (m_a + m_b) [kg/m... areal: kg] (paper's m_perp)
+  double normal_mass;     ///< m_a m_b / (m_a + m_b) [kg] (paper's m_perp)
   double tangential_mass; ///< 1 / (1/m_a + 1/m_b + r_a^2/I_a + r_b^2/I_b) (paper's m_par)
 };
 
@@ -40,8 +40,9 @@ struct ContactForce {
   double spring;      ///< the spring force to keep for the next step [N]
 };
 
-/// l from the lever arms; each lever is floored at min_lever (half the body's inner radius),
-/// so that a pathological deep overlap with the force point at a centroid cannot divide by 0.
+/// l from the lever arms (an infinite lever stands for a wall). The caller floors each lever at
+/// half the body's inner radius, so that a pathological deep overlap with the force point at a
+/// centroid cannot divide by 0.
 double contact_length(const ContactParameters& p, double lever_a, double lever_b);
 
 /// One step of the contact law. spring is the tangential spring force carried from the last

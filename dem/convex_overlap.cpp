@@ -43,7 +43,7 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   // pair sits in the world.
   const Vec2 origin = w[0].p;
   double a2 = 0.0, cx = 0.0, cy = 0.0;
-  Vec2 s_a(0, 0), s_b(0, 0), crossing_sum(0, 0);
+  Vec2 s_a(0, 0), s_b(0, 0);
   Vec2 first_crossing(0, 0), second_crossing(0, 0);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = w[i].p;
@@ -60,7 +60,6 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
       if (o.crossings == 0) first_crossing = p;
       if (o.crossings == 1) second_crossing = p;
       ++o.crossings;
-      crossing_sum += p;
     }
   }
   const double area = 0.5 * a2;

@@ -2,7 +2,55 @@
 
 #include "common/error.h"
 
+#include <cmath>
+#include <sstream>
+
 namespace pilelab::dem {
+
+namespace {
+[[noreturn]] void inconsistent(const std::string& source, const std::string& what) {
+  throw InputError(source + ": " + what);
+}
+
+// Values each in range can still make an impossible experiment; say which keys clash.
+void check_consistency(const DemScene& s, const std::string& source) {
+  const double largest_radius = 0.5 * s.grains.mean_diameter * (1.0 + 0.5 * s.grains.polydispersity);
+  std::ostringstream m;
+  m.precision(6);
+  if (s.container.plate_thickness < s.grains.mean_diameter / 2) {
+    m << "dem.container.plate_thickness_m = " << s.container.plate_thickness
+      << " m is thinner than half a grain; expected at least " << s.grains.mean_diameter / 2 << " m";
+    inconsistent(source, m.str());
+  }
+  if (s.pour.funnel_height < 2.0 * largest_radius) {
+    m << "dem.pour.funnel_height_m = " << s.pour.funnel_height
+      << " m: grains would be inserted into the plate; expected at least " << 2.0 * largest_radius << " m";
+    inconsistent(source, m.str());
+  }
+  // Where the funnel ends: after its travel, or after pouring everything at the set rate.
+  double end_x = s.pour.funnel_x;
+  if (s.pour.funnel_speed != 0.0) {
+    const double travel = s.pour.funnel_travel > 0.0 ? s.pour.funnel_travel
+                                                     : std::abs(s.pour.funnel_speed) * s.grain_count / s.pour.rate;
+    end_x += std::copysign(travel, s.pour.funnel_speed);
+  }
+  const double half = 0.5 * s.container.plate_width;
+  for (double x : {s.pour.funnel_x, end_x})
+    if (std::abs(x) + 0.5 * s.pour.outlet_width >= half) {
+      m << "the funnel outlet reaches x = " << x << " m (dem.pour.funnel_x_m, funnel_speed_m_per_s, funnel_travel_m)"
+        << " but the plate ends at +-" << half << " m (dem.container.plate_width_m)";
+      inconsistent(source, m.str());
+    }
+  if (s.settle.min_time > s.settle.max_time) {
+    m << "dem.settle.min_time_s = " << s.settle.min_time << " s exceeds dem.settle.max_time_s = " << s.settle.max_time
+      << " s";
+    inconsistent(source, m.str());
+  }
+  if (s.contact.friction_mu > 0.0 && s.contact.tangential_stiffness_ratio == 0.0)
+    inconsistent(source, "dem.contact.tangential_stiffness_ratio = 0 with friction_mu > 0 would remove friction; "
+                         "expected a positive ratio (paper: 2/7)");
+}
+}  // namespace
 
 DemScene read_dem_scene(SceneReader& r) {
   DemScene s;
@@ -62,13 +110,14 @@ DemScene read_dem_scene(SceneReader& r) {
 
   RelaxSpec& rl = s.relax;
   rl.enabled = r.get_bool("dem.relax.enabled", rl.enabled);
-  rl.gravity_reduction = r.get_double("dem.relax.gravity_reduction", rl.gravity_reduction, {0.0, 1.0, true});
+  rl.gravity_reduction = r.get_double("dem.relax.gravity_reduction", rl.gravity_reduction, {0.0, 0.99, true});
   rl.ramp_time = r.get_double("dem.relax.ramp_time_s", rl.ramp_time, Range::positive());
 
   OutputSpec& o = s.output;
   o.frame_interval = r.get_double("dem.output.frame_interval_s", o.frame_interval, Range::at_least(0.0));
   o.checkpoint_interval = r.get_double("dem.output.checkpoint_interval_s", o.checkpoint_interval, Range::at_least(0.0));
   o.progress_interval = r.get_double("dem.output.progress_interval_s", o.progress_interval, Range::positive());
+  check_consistency(s, r.source());
   return s;
 }
 

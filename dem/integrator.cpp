@@ -18,6 +18,9 @@ void MotionState::resize(std::size_t bodies) {
 }
 
 namespace {
+// Below this many bodies a parallel loop costs more than it saves.
+constexpr int parallel_threshold = 256;
+
 // Gear's corrector coefficients for a second-order equation whose forces depend on velocity,
 // in the scaled form (r_k = dt^k / k! * k-th derivative): r_k += alpha_k * (dt^2/2) * (a - a_p).
 constexpr double gear_alpha[6] = {3.0 / 16.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0};
@@ -28,7 +31,7 @@ void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt
   if (s == Scheme::gear5) {
     const double h = dt, h2 = h * h / 2.0, h3 = h2 * h / 3.0, h4 = h3 * h / 4.0, h5 = h4 * h / 5.0;
     const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= 256)
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
     for (int k = 0; k < n; ++k)
       for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
@@ -39,8 +42,10 @@ void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt
         d[4][c] += h * d[5][c];
       }
   } else {
-    for (int i : bodies)
-      for (int c = 3 * i; c < 3 * i + 3; ++c) {
+    const int n = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+    for (int k = 0; k < n; ++k)
+      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         m.half_velocity[c] = d[1][c] + 0.5 * dt * d[2][c];
         d[0][c] += dt * m.half_velocity[c];
         d[1][c] += dt * d[2][c];  // predicted velocity for velocity-dependent forces
@@ -59,7 +64,7 @@ void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const s
     const double c4 = gear_alpha[4] * 12.0 / (dt * dt);
     const double c5 = gear_alpha[5] * 60.0 / (dt * dt * dt);
     const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= 256)
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
     for (int k = 0; k < n; ++k)
       for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         const double delta = accel[c] - d[2][c];
@@ -71,8 +76,10 @@ void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const s
         d[5][c] += c5 * delta;
       }
   } else {
-    for (int i : bodies)
-      for (int c = 3 * i; c < 3 * i + 3; ++c) {
+    const int n = static_cast<int>(bodies.size());
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+    for (int k = 0; k < n; ++k)
+      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
         d[2][c] = accel[c];
         d[1][c] = m.half_velocity[c] + 0.5 * dt * accel[c];
       }

@@ -96,6 +96,11 @@ void PileProtocol::build_container() {
   }
 }
 
+bool PileProtocol::funnel_moving(double t) const {
+  const PourSpec& p = scene_.pour;
+  return p.funnel_speed != 0.0 && (p.funnel_travel == 0.0 || std::abs(p.funnel_speed) * t < p.funnel_travel);
+}
+
 double PileProtocol::funnel_x(double t) const {
   const PourSpec& p = scene_.pour;
   if (p.funnel_speed == 0.0) return p.funnel_x;
@@ -128,8 +133,7 @@ void PileProtocol::try_insert() {
       return;
     }
   }
-  double vx = 0.0;
-  if (p.funnel_speed != 0.0 && funnel_x(t + 1e-9) != funnel_x(t)) vx = p.funnel_speed;
+  const double vx = funnel_moving(t) ? p.funnel_speed : 0.0;
   world_.activate(body, at, angle, {vx, -p.inflow_speed}, 0.0);
   ++state_.poured;
   state_.last_insert_time = t;
@@ -189,9 +193,7 @@ void PileProtocol::step() {
     const double f = std::min(1.0, (world_.time() - state_.phase_start) / scene_.relax.ramp_time);
     world_.set_gravity({0.0, -scene_.gravity * (1.0 - f * scene_.relax.gravity_reduction)});
   }
-  if (state_.phase == Phase::pour && scene_.pour.funnel_travel > 0.0 && !funnel_walls_.empty() &&
-      funnel_x(world_.time()) == funnel_x(world_.time() + world_.settings().time_step) &&
-      world_.velocity(funnel_walls_[0]).squaredNorm() > 0.0)
+  if (!funnel_walls_.empty() && !funnel_moving(world_.time()) && world_.velocity(funnel_walls_[0]).squaredNorm() > 0.0)
     for (int w : funnel_walls_) world_.set_wall_velocity(w, {0.0, 0.0});  // the funnel has arrived
   world_.step();
   if (world_.steps() % check_interval == 0) {

@@ -65,6 +65,7 @@ class PileProtocol {
   void remove_lost_grains();
   void advance_phase();
   double funnel_x(double t) const;
+  bool funnel_moving(double t) const;
   void finish_settling(const std::string& snapshot_name, Phase next);
 
   DemScene scene_;

@@ -74,10 +74,23 @@ void print_progress(const PileProtocol& p, double steps_per_s, double grain_step
   std::fprintf(stderr, "\n");
 }
 
+// Mean kinetic energy per grain of a snapshot [J].
+double kinetic_energy_per_grain(const World& w, const Snapshot& s) {
+  double e = 0.0;
+  for (std::size_t g = 0; g < s.grain_count(); ++g) {
+    const int b = static_cast<int>(s.body[g]);
+    const double vx = s.velocity[2 * g], vy = s.velocity[2 * g + 1], om = s.angular_velocity[g];
+    e += 0.5 * w.mass(b) * (vx * vx + vy * vy) + 0.5 * w.inertia(b) * om * om;
+  }
+  return s.grain_count() ? e / s.grain_count() : 0.0;
+}
+
 nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threads) {
   const World& w = p.world();
   const DemScene& scene = p.scene();
-  const PileShape shape = measure_pile(w, 2.0 * scene.grains.mean_diameter);
+  // The pile is measured as it settled under full gravity, before any relaxation.
+  const Snapshot& settled = p.snapshots().front();
+  const PileShape shape = measure_pile(w, settled, 2.0 * scene.grains.mean_diameter);
   const StepProfile& prof = w.profile();
   nlohmann::json r;
   r["particles"] = w.active_grains().size();
@@ -101,7 +114,14 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["threads"] = threads;
   r["cores"] = std::thread::hardware_concurrency();
   r["snapshots"] = nlohmann::json::array();
-  for (const Snapshot& s : p.snapshots()) r["snapshots"].push_back(s.name);
+  r["settling"] = nlohmann::json::object();
+  for (const Snapshot& s : p.snapshots()) {
+    r["snapshots"].push_back(s.name);
+    const double e = kinetic_energy_per_grain(w, s);
+    r["settling"][s.name] = {{"time_s", s.time},
+                             {"kinetic_energy_per_grain_J", e},
+                             {"reached_threshold", e < scene.settle.kinetic_energy_per_grain}};
+  }
   r["profile_s"] = {{"predict", prof.predict},         {"geometry", prof.geometry},
                     {"broad_phase", prof.broad_phase}, {"narrow_phase", prof.narrow_phase},
                     {"correct", prof.correct}};
@@ -158,9 +178,13 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     if (out.frame_interval > 0 && world.time() >= counters.frame_times.size() * out.frame_interval)
       frames.write(world, counters.frame_times);
     const bool stop_now = opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps;
-    if ((out.checkpoint_interval > 0 && world.time() >= (counters.checkpoints + 1) * out.checkpoint_interval) ||
-        stop_now) {
+    // Regular checkpoints fall due at multiples of the interval, whatever extra ones were written.
+    const bool due = out.checkpoint_interval > 0 &&
+                     std::floor(world.time() / out.checkpoint_interval) > std::floor(counters.last_checkpoint_time /
+                                                                                      out.checkpoint_interval);
+    if (due || stop_now) {
       ++counters.checkpoints;
+      counters.last_checkpoint_time = world.time();
       counters.wall_time = wall_before + elapsed();
       write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
     }
@@ -194,6 +218,21 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
                  run_info);
   nlohmann::json report = dem_report(protocol, counters, threads);
+  if (world.active_grains().empty())
+    throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
+                     std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
+                     "): check dem.pour.funnel_x_m and dem.container.plate_width_m");
+  if (!opt.quiet) {
+    if (protocol.state().lost > 0)
+      std::fprintf(stderr, "warning: %d grains fell off the plate; a wider dem.container.plate_width_m keeps them\n",
+                   protocol.state().lost);
+    for (const auto& [name, info] : report["settling"].items())
+      if (!info["reached_threshold"].get<bool>())
+        std::fprintf(stderr,
+                     "warning: snapshot '%s' was taken at dem.settle.max_time_s with %.3g J per grain, above "
+                     "dem.settle.kinetic_energy_per_grain_J\n",
+                     name.c_str(), info["kinetic_energy_per_grain_J"].get<double>());
+  }
   write_report_section(opt.out_dir + "/report.json", "dem", report);
   if (!opt.quiet)
     std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",

@@ -24,24 +24,26 @@ double fitted_slope(const std::vector<Vec2>& pts) {
 }
 }  // namespace
 
-PileShape measure_pile(const World& world, double bin_width) {
+PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_width) {
   PileShape shape;
-  const auto& grains = world.active_grains();
-  if (grains.empty()) {
+  const std::size_t n = snapshot.grain_count();
+  if (n == 0) {
     shape.repose_left_deg = shape.repose_right_deg = std::numeric_limits<double>::quiet_NaN();
     return shape;
   }
   double xmin = INFINITY, xmax = -INFINITY;
-  for (int i : grains) {
-    xmin = std::min(xmin, world.position(i).x());
-    xmax = std::max(xmax, world.position(i).x());
+  for (std::size_t g = 0; g < n; ++g) {
+    xmin = std::min(xmin, snapshot.position[2 * g]);
+    xmax = std::max(xmax, snapshot.position[2 * g]);
   }
   const int bins = static_cast<int>((xmax - xmin) / bin_width) + 1;
   std::vector<double> top(bins, -INFINITY);
-  for (int i : grains) {
-    const Vec2 p = world.position(i);
-    double y = p.y() + world.shape(i).radius;
-    for (int k = 0; k < world.corner_count(i); ++k) y = std::max(y, world.corners(i)[k].y());
+  for (std::size_t g = 0; g < n; ++g) {
+    const Vec2 p(snapshot.position[2 * g], snapshot.position[2 * g + 1]);
+    const Shape& s = world.shape(static_cast<int>(snapshot.body[g]));
+    const double c = std::cos(snapshot.angle[g]), sn = std::sin(snapshot.angle[g]);
+    double y = p.y() + s.radius;
+    for (const Vec2& v : s.vertices) y = std::max(y, p.y() + rotate(v, c, sn).y());
     const int b = static_cast<int>((p.x() - xmin) / bin_width);
     top[b] = std::max(top[b], y);
   }

@@ -9,6 +9,7 @@
 // repose is atan(|slope|). A side with fewer than 3 such bins has no angle (NaN).
 #include <vector>
 
+#include "dem/snapshot.h"
 #include "dem/world.h"
 
 namespace pilelab::dem {
@@ -22,6 +23,7 @@ struct PileShape {
   std::vector<Vec2> surface;    ///< (bin centre, surface height) [m]
 };
 
-PileShape measure_pile(const World& world, double bin_width);
+/// The pile of a snapshot; the world supplies the grains' shapes.
+PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_width);
 
 }  // namespace pilelab::dem

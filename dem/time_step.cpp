@@ -14,17 +14,19 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
     const double k = contact.youngs_modulus * chord / l;
     const double m = areal_density * s.area, inertia = areal_density * s.polar_moment;
     const double m_eff = 1.0 / (1.0 / m + s.bounding_radius * s.bounding_radius / inertia);
-    const double omega = std::sqrt(k / (0.5 * m_eff));
-    if (omega > b.omega_max) {
+    const double m_pair = 0.5 * m_eff;
+    const double omega = std::sqrt(k / m_pair);
+    // The damping force uses the translational reduced mass m/2, the mode the pair's effective
+    // mass: zeta = c / (2 sqrt(k m_pair)) with c = gamma (chord/l) sqrt(E m/2).
+    const double zeta = 0.5 * contact.damping_gamma * std::sqrt(chord / l * (0.5 * m) / m_pair);
+    const double limit = stability_limit_omega_dt(scheme) * (std::sqrt(1.0 + zeta * zeta) - zeta) / omega;
+    if (b.stiffest_grain < 0 || limit < b.stable_limit) {
+      b.stable_limit = limit;
       b.omega_max = omega;
+      b.period_min = 2.0 * M_PI / omega;
+      b.damping_ratio = zeta;
       b.stiffest_grain = static_cast<int>(i);
-      b.damping_ratio = 0.5 * contact.damping_gamma * std::sqrt(chord / l);
     }
-  }
-  if (b.omega_max > 0) {
-    b.period_min = 2.0 * M_PI / b.omega_max;
-    const double zeta = b.damping_ratio;
-    b.stable_limit = stability_limit_omega_dt(scheme) * (std::sqrt(1.0 + zeta * zeta) - zeta) / b.omega_max;
   }
   return b;
 }

@@ -19,26 +19,31 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
-std::uint64_t pair_key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
 }  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {}
 
-int World::add_wall(const Shape& shape, const Vec2& position, double angle, const Vec2& velocity) {
-  if (static_cast<int>(shapes_.size()) != wall_count_)
-    throw std::logic_error("World: walls must be added before grains");
+int World::append_body(const Shape& shape, double mass, double inertia, bool active) {
+  if (static_cast<int>(shape.vertices.size()) > max_polygon_corners)
+    throw std::invalid_argument("World: polygons have at most 64 corners");
   const int id = body_count();
   shapes_.push_back(shape);
-  mass_.push_back(INFINITY);
-  inertia_.push_back(INFINITY);
-  inv_mass_.push_back(0.0);
-  inv_inertia_.push_back(0.0);
-  active_.push_back(1);
+  mass_.push_back(mass);
+  inertia_.push_back(inertia);
+  inv_mass_.push_back(1.0 / mass);  // 0 for walls, whose mass is infinite
+  inv_inertia_.push_back(1.0 / inertia);
+  active_.push_back(active ? 1 : 0);
   motion_.resize(shapes_.size());
   contact_force_.resize(3 * shapes_.size(), 0.0);
   accel_.resize(3 * shapes_.size(), 0.0);
   vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
   world_vertices_.resize(vertex_offset_.back());
+  return id;
+}
+
+int World::add_wall(const Shape& shape, const Vec2& position, double angle, const Vec2& velocity) {
+  if (body_count() != wall_count_) throw std::logic_error("World: walls must be added before grains");
+  const int id = append_body(shape, INFINITY, INFINITY, true);
   motion_.d[0][3 * id] = position.x();
   motion_.d[0][3 * id + 1] = position.y();
   motion_.d[0][3 * id + 2] = angle;
@@ -51,21 +56,7 @@ int World::add_wall(const Shape& shape, const Vec2& position, double angle, cons
 }
 
 int World::add_grain(const Shape& shape, double areal_density) {
-  if (static_cast<int>(shape.vertices.size()) > max_polygon_corners)
-    throw std::invalid_argument("World: grains have at most 64 corners");
-  const int id = body_count();
-  shapes_.push_back(shape);
-  const double m = areal_density * shape.area, inertia = areal_density * shape.polar_moment;
-  mass_.push_back(m);
-  inertia_.push_back(inertia);
-  inv_mass_.push_back(1.0 / m);
-  inv_inertia_.push_back(1.0 / inertia);
-  active_.push_back(0);
-  motion_.resize(shapes_.size());
-  contact_force_.resize(3 * shapes_.size(), 0.0);
-  accel_.resize(3 * shapes_.size(), 0.0);
-  vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
-  world_vertices_.resize(vertex_offset_.back());
+  const int id = append_body(shape, areal_density * shape.area, areal_density * shape.polar_moment, false);
   max_grain_radius_ = std::max(max_grain_radius_, shape.bounding_radius);
   return id;
 }
@@ -140,21 +131,21 @@ void World::step() {
   predict(settings_.scheme, motion_, active_grains_, dt);
   for (int w : moving_walls_)  // prescribed motion: x += v dt
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
+  profile_.predict += seconds_since(t0);
+
   auto t1 = Clock::now();
-  profile_.predict += std::chrono::duration<double>(t1 - t0).count();
-
   place_shapes();
+  profile_.geometry += seconds_since(t1);
+
   auto t2 = Clock::now();
-  profile_.geometry += std::chrono::duration<double>(t2 - t1).count();
-
   find_candidate_pairs();
+  profile_.broad_phase += seconds_since(t2);
+
   auto t3 = Clock::now();
-  profile_.broad_phase += std::chrono::duration<double>(t3 - t2).count();
-
   collide_and_compute_forces();
-  auto t4 = Clock::now();
-  profile_.narrow_phase += std::chrono::duration<double>(t4 - t3).count();
+  profile_.narrow_phase += seconds_since(t3);
 
+  auto t4 = Clock::now();
   // Newton (paper eq. 1): contact forces plus gravity.
   for (int i : active_grains_) {
     accel_[3 * i] = contact_force_[3 * i] * inv_mass_[i] + settings_.gravity.x();
@@ -174,8 +165,8 @@ void World::check_finite() const {
       if (!std::isfinite(motion_.d[0][3 * i + c]) || !std::isfinite(motion_.d[1][3 * i + c])) {
         std::ostringstream s;
         s << "the simulation became unstable at t = " << time_ << " s (step " << steps_ << "): grain " << i
-          << " has a non-finite position or velocity; the time step " << settings_.time_step
-          << " s is probably too large for the contact stiffness";
+          << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
+          << " s) above the stability limit, or bodies placed overlapping deeply";
         throw std::runtime_error(s.str());
       }
 }
@@ -290,7 +281,9 @@ void World::collide_and_compute_forces() {
     std::size_t k = 0;
     for (std::size_t c = 0; c < n; ++c) {
       while (k < contacts_.size() && contacts_[k].key() < candidates_[c]) ++k;
-      scratch_contacts_[c].spring = (k < contacts_.size() && contacts_[k].key() == candidates_[c]) ? contacts_[k].spring : 0.0;
+      const bool persists = k < contacts_.size() && contacts_[k].key() == candidates_[c];
+      scratch_contacts_[c].spring = persists ? contacts_[k].spring : 0.0;
+      scratch_contacts_[c].normal = persists ? contacts_[k].normal : Vec2(0.0, 0.0);
     }
   }
   const ContactParameters& law = settings_.contact;
@@ -323,9 +316,10 @@ void World::collide_and_compute_forces() {
     ContactKinematics k;
     k.area = o.area;
     k.chord = o.chord;
-    // Walls are far larger than grains: their lever (to the wall's own centroid) is long and the
-    // contact length tends to the grain's lever, as the paper's formula gives for r_j -> inf.
-    k.lever_a = std::max(ra.norm(), 0.5 * sa.inner_radius);
+    // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
+    // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
+    // than depending on the distance to the wall's centroid.
+    k.lever_a = is_wall(a) ? INFINITY : std::max(ra.norm(), 0.5 * sa.inner_radius);
     k.lever_b = std::max(rb.norm(), 0.5 * sb.inner_radius);
     k.approach_speed = o.normal.dot(ua - ub);
     k.slip_speed = t.dot(ua - ub);
@@ -333,7 +327,12 @@ void World::collide_and_compute_forces() {
     k.tangential_mass = 1.0 / (inv_mass_[a] + inv_mass_[b] + ra.squaredNorm() * inv_inertia_[a] +
                                rb.squaredNorm() * inv_inertia_[b]);
     const double l = contact_length(law, k.lever_a, k.lever_b);
-    const ContactForce f = dem::contact_force(law, k, l, scratch_contacts_[c].spring, dt);
+    // The spring is a vector in the contact plane: as the normal turns, keep its projection on
+    // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
+    // degrees in one step (a jump to another edge) starts afresh.
+    const double turn = scratch_contacts_[c].normal.dot(o.normal);
+    const double spring = turn > 0.5 ? turn * scratch_contacts_[c].spring : 0.0;
+    const ContactForce f = dem::contact_force(law, k, l, spring, dt);
 
     Contact& out = scratch_contacts_[c];
     out.a = a;

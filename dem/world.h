@@ -12,6 +12,9 @@
 
 namespace pilelab::dem {
 
+/// The key that orders contacts and candidate pairs: by a, then b.
+inline std::uint64_t pair_key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
+
 /// A contact between bodies a < b, with the spring history the contact law carries from step
 /// to step and the values of the last evaluation (for output and coarse-graining).
 struct Contact {
@@ -23,7 +26,7 @@ struct Contact {
   double tangential_force = 0.0; ///< [N], on b along +perp(normal)
   double area = 0.0;             ///< overlap area [m^2]
   double chord = 0.0;            ///< contact-line length [m]
-  std::uint64_t key() const { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }
+  std::uint64_t key() const { return pair_key(a, b); }
   Vec2 force_on_b() const { return normal_force * normal + tangential_force * perp(normal); }
 };
 
@@ -102,6 +105,7 @@ class World {
   const std::vector<std::uint8_t>& activity() const { return active_; }
 
  private:
+  int append_body(const Shape& shape, double mass, double inertia, bool active);
   void place_shapes();
   void find_candidate_pairs();
   void collide_and_compute_forces();

@@ -22,6 +22,9 @@ World world_from_snapshot(const DemFile& file, const std::string& name, const Wo
     Contact k;
     k.a = static_cast<std::int32_t>(s.pair[2 * c]);
     k.b = static_cast<std::int32_t>(s.pair[2 * c + 1]);
+    k.normal = {s.normal[2 * c], s.normal[2 * c + 1]};
+    // The spring part of the tangential force (dem.h5 stores the total, spring + viscous); for
+    // the contacts at rest of a settled snapshot the viscous part vanishes.
     k.spring = s.tangential_force[c];
     contacts.push_back(k);
   }

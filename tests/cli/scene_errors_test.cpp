@@ -104,3 +104,27 @@ TEST_F(SceneErrors, CorruptCheckpointIsNamed) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("checkpoint.h5: not an HDF5 file"), std::string::npos) << r.output;
 }
+
+TEST_F(SceneErrors, FunnelOutsideThePlate) {
+  expect_error(edited("funnel_height_m = 0.06", "funnel_height_m = 0.06\nfunnel_x_m = 0.5"),
+               "but the plate ends at +-0.15 m (dem.container.plate_width_m)");
+}
+
+TEST_F(SceneErrors, MovingFunnelThatWouldLeaveThePlate) {
+  expect_error(edited("funnel_height_m = 0.06", "funnel_height_m = 0.06\nfunnel_speed_m_per_s = 3.0"),
+               "the funnel outlet reaches x =");
+}
+
+TEST_F(SceneErrors, FunnelInsideThePlate) {
+  expect_error(edited("funnel_height_m = 0.06", "funnel_height_m = 0.001"),
+               "dem.pour.funnel_height_m = 0.001 m: grains would be inserted into the plate");
+}
+
+TEST_F(SceneErrors, PlateThinnerThanHalfAGrain) {
+  expect_error(edited("plate_width_m = 0.3", "plate_width_m = 0.3\nplate_thickness_m = 0.001"),
+               "dem.container.plate_thickness_m = 0.001 m is thinner than half a grain");
+}
+
+TEST_F(SceneErrors, SettleMinimumAboveMaximum) {
+  expect_error(edited("min_time_s = 0.05", "min_time_s = 0.5"), "dem.settle.min_time_s = 0.5 s exceeds dem.settle.max_time_s");
+}

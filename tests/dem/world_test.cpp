@@ -32,7 +32,7 @@ World random_heap(int grains, std::uint64_t seed, Vec2 gravity) {
   }
   s.time_step = 0.5 * stable_time_step(shapes, 5000.0, s.contact, s.scheme).stable_limit;
   World w(s);
-  w.add_wall(make_polygon({{-0.3, -0.01}, {0.3, -0.01}, {0.3, 0.0}, {-0.3, 0.0}}), {0, 0}, 0.0);
+  w.add_wall(make_polygon({{-0.3, -0.01}, {0.3, -0.01}, {0.3, 0.0}, {-0.3, 0.0}}), {0, -0.005}, 0.0);  // top at y = 0
   const int per_row = static_cast<int>(std::sqrt(grains)) + 1;
   for (int i = 0; i < grains; ++i) {
     const int id = w.add_grain(shapes[i], 5000.0);

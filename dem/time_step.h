@@ -1,14 +1,16 @@
 #pragma once
-// The stable time step. The stiffest contact a grain can form is flat edge on edge: the overlap
-// grows as A = chord * depth, so R = E A / l has stiffness k = E * chord / l, with the chord
-// at most the grain's longest edge and l at its smallest when both lever arms are the inner
-// radius. The lightest effective mass couples translation and rotation about the force point:
-// m_eff = 1 / (1/m + r_max^2 / I), halved for two such grains. The contact frequency is
-// omega = sqrt(k / m_pair); a scheme is stable for omega dt below its limit (integrator.h).
-// Damping lowers that limit: with damping ratio zeta = (gamma/2) sqrt(chord/l * m_n/m_pair)
-// (the paper's D = gamma (dA/dt)/l sqrt(E m_n) against critical damping 2 sqrt(k m_pair)), an
-// explicit scheme's limit shrinks by the factor sqrt(1 + zeta^2) - zeta, which we apply to both
-// schemes. The bound is the smallest limit over all grains.
+// The stable time step. The stiffest contact a grain can form is an edge pressed flat: the
+// overlap grows as A = chord * depth, so R = E A / l has stiffness k = E * chord / l, with the
+// chord at most that edge's length and l at its smallest when both lever arms are the inner
+// radius. The force acts along the edge's normal at a point of the edge, so its moment arm about
+// the centroid is at most the distance along the edge from the centroid's foot to the edge's far
+// end; translation and rotation then move the effective mass m_eff = 1/(1/m + arm^2/I), halved
+// for two such grains: omega_e = sqrt(2 k (1/m + arm^2/I)) for every edge e of every grain
+// (discs: chord 2r, arm 0). A scheme is stable for omega dt below its limit (integrator.h).
+// Damping lowers that limit: with damping ratio zeta = (gamma/2) sqrt(chord/l * m/m_eff)
+// (the paper's D = gamma (dA/dt)/l sqrt(E m_n), m_n = m/2, against critical damping
+// 2 sqrt(k m_eff/2)), an explicit scheme's limit shrinks by sqrt(1 + zeta^2) - zeta, which we
+// apply to both schemes. The bound is the smallest limit over all edges of all grains.
 #include <vector>
 
 #include "dem/contact_law.h"

@@ -186,3 +186,22 @@ TEST(Incline, GrainSlidesAboveTheFrictionAngleWithCoulombAcceleration) {
   EXPECT_GT(r.travel, 0.01);
   EXPECT_NEAR(r.acceleration, expected, 0.02 * expected);
 }
+
+TEST(Wall, StiffnessDoesNotDependOnWhereAlongTheWallAGrainRests) {
+  // Two identical blocks resting under gravity on one long plate, one over its centre and one
+  // near its end: the wall is flat on their scale, so both sink to the same static depth
+  // E A / l = m g with l the block's lever, to round-off.
+  WorldSettings w;
+  w.scheme = Scheme::verlet;
+  const Shape block = make_polygon({{-0.005, -0.003}, {0.005, -0.003}, {0.005, 0.003}, {-0.005, 0.003}});
+  w.time_step = 0.8 * stable_time_step({block}, density, w.contact, w.scheme).stable_limit;
+  World world(w);
+  world.add_wall(make_polygon({{-1.0, -0.01}, {1.0, -0.01}, {1.0, 0.01}, {-1.0, 0.01}}), {0.0, -0.01}, 0.0);
+  const int centre = world.add_grain(block, density), end = world.add_grain(block, density);
+  world.activate(centre, {0.0, 0.003}, 0.0, {0, 0}, 0.0);
+  world.activate(end, {0.95, 0.003}, 0.0, {0, 0}, 0.0);
+  for (int k = 0; k < 20000; ++k) world.step();
+  const double depth = 0.003 - world.position(centre).y();
+  EXPECT_GT(depth, 0.0);
+  EXPECT_NEAR(world.position(end).y(), world.position(centre).y(), 1e-6 * depth);
+}

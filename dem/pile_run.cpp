@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
+#include "common/scene_tables.h"
 #include "dem/checkpoint.h"
 #include "dem/dem_file.h"
 #include "dem/dem_scene.h"
@@ -26,7 +27,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // The top-level tables a scene may hold; each stage checks the keys of its own.
-const std::vector<std::string> scene_tables = {"scene", "dem", "mesh", "coarse", "continuum", "compare"};
+
 
 std::string frame_name(const char* kind, std::size_t index) {
   char buf[64];
@@ -134,7 +135,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   reader.get_string("scene.name", "");
   reader.get_string("scene.description", "");
   const DemScene scene = read_dem_scene(reader);
-  reader.reject_unknown({"scene", "dem"}, scene_tables);
+  reader.reject_unknown({"scene", "dem"}, scene_tables());
 
   std::error_code ec;
   std::filesystem::create_directories(opt.out_dir, ec);

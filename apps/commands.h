@@ -1,0 +1,13 @@
+#pragma once
+// One function per pilelab subcommand. Each registers its options and the action that runs
+// when the subcommand is chosen; the action throws InputError for bad input (exit code 2).
+#include <CLI/CLI.hpp>
+
+namespace pilelab::app {
+
+void add_dem_command(CLI::App& app);
+#ifdef PILELAB_WITH_CONTINUUM
+void add_solve_command(CLI::App& app);
+#endif
+
+}  // namespace pilelab::app

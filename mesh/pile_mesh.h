@@ -1,0 +1,78 @@
+#pragma once
+// The pile triangulation shared by coarse/ and continuum/. Meshes are made with gmsh's C++
+// API and written as MSH 4.1 (ASCII), which gmsh, meshio and deal.II's GridIn all read.
+//
+// Boundary convention (named physical curves "BoundaryID:n", because deal.II's gmsh reader
+// ignores unnamed groups): see BoundaryId. All cells form one physical surface "MaterialID:0".
+// The pile stands on y = 0; lengths are in metres; angles in degrees from the horizontal.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "common/scene_reader.h"
+#include "dem/vec2.h"
+
+namespace pilelab::mesh {
+
+enum BoundaryId : int {
+  base = 1,         ///< y = 0, where the pile rests on the plate
+  left_flank = 2,   ///< free surface left of the apex
+  right_flank = 3,  ///< free surface right of the apex
+  side_wall = 4,    ///< vertical walls of a block
+  top = 5,          ///< free top of a block
+};
+
+/// An ideal triangular pile: apex at (apex_x_m, height_m), flanks at the repose angles.
+struct Wedge {
+  double height_m = 0.33;
+  double left_angle_deg = 28.0;
+  double right_angle_deg = 28.0;
+  double apex_x_m = 0.0;
+};
+
+/// A rectangle [-width/2, width/2] x [0, height]: the test geometry with closed-form stresses.
+struct Block {
+  double width_m = 1.0;
+  double height_m = 1.0;
+};
+
+/// The free surface of a DEM pile: points from the left foot (y = 0) over the apex to the
+/// right foot (y = 0), x increasing. The base closes the outline along y = 0.
+struct Outline {
+  std::vector<dem::Vec2> surface;
+  int apex_index = 0;  ///< the highest point; left of it is the left flank, right the right flank
+};
+
+struct MeshSpec {
+  enum class Kind { wedge, block, dem_outline } kind = Kind::wedge;
+  Wedge wedge;
+  Block block;
+  std::string dem_file;                 ///< kind == dem_outline: the dem.h5 whose pile is meshed
+  std::string dem_snapshot = "settled";
+  double element_size_m = 0.02;         ///< target edge length
+  double axis_element_size_m = 0.0;     ///< near the vertical axis through the apex (0: same)
+  bool embed_axis = true;               ///< element edges follow the axis (the FPA kink)
+};
+
+/// Reads the [mesh] table; relative file names are taken relative to scene_dir.
+MeshSpec read_mesh_scene(SceneReader& reader, const std::string& scene_dir);
+
+/// The outline of an ideal wedge (surface points left foot, apex, right foot).
+Outline wedge_outline(const Wedge& wedge);
+
+/// Meshes spec and writes msh_path atomically. Throws InputError on degenerate geometry.
+void write_mesh(const MeshSpec& spec, const std::string& msh_path);
+
+/// A triangulation as plain arrays (what coarse/ needs; deal.II reads the file itself).
+struct TriangleMesh {
+  std::vector<dem::Vec2> nodes;
+  std::vector<std::array<int, 3>> triangles;   ///< node indices, counter-clockwise
+  std::vector<std::array<int, 2>> boundary_edges;
+  std::vector<int> boundary_edge_ids;          ///< a BoundaryId per boundary edge
+};
+
+/// Reads a 2D linear-triangle mesh from an MSH file. Throws InputError naming the file when
+/// it is missing, unreadable, holds no triangles, or holds inverted (clockwise) triangles.
+TriangleMesh read_triangle_mesh(const std::string& msh_path);
+
+}  // namespace pilelab::mesh

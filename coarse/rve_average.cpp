@@ -1,0 +1,157 @@
+#include "coarse/rve_average.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "coarse/circle_overlap.h"
+
+namespace pilelab::coarse {
+
+double Domain::area_in_disc(const Vec2& centre, double radius) const {
+  if (edges.empty()) return M_PI * radius * radius;
+  double area = 0;
+  for (const auto& [a, b] : edges) area += circle_sector_clip_area(centre, radius, a, b);
+  return std::max(area, 0.0);
+}
+
+RveAverager::RveAverager(const Packing& packing, Domain domain) : packing_(packing), domain_(std::move(domain)) {
+  const std::size_t n = packing.grains.size();
+  moment_.assign(n, Tensor::Zero());
+  fabric_.assign(n, Tensor::Zero());
+  contacts_.assign(n, 0);
+  partners_.assign(n, {});
+  bounding_radius_.assign(n, 0.0);
+  std::vector<Vec2> centres(n);
+  double area_sum = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const Grain& g = packing.grains[p];
+    centres[p] = g.centre;
+    area_sum += g.area;
+    bounding_radius_[p] = g.shape ? g.shape->bounding_radius : 0.0;
+    max_bounding_radius_ = std::max(max_bounding_radius_, bounding_radius_[p]);
+  }
+  mean_area_ = n ? area_sum / n : 0.0;
+  // Each contact adds x (x) F to the grain(s) it touches (eq. 10 times V^p) and n (x) n to
+  // their fabric (eq. 15).
+  auto add = [&](int p, const Vec2& point, const Vec2& force) {
+    const Vec2 x = point - packing.grains[p].centre;
+    moment_[p] += force * x.transpose();
+    const double len = x.norm();
+    if (len > 0) fabric_[p] += (x / len) * (x / len).transpose();
+    ++contacts_[p];
+  };
+  for (const Contact& c : packing.contacts) {
+    add(c.a, c.point, c.force_on_a);
+    if (c.b >= 0) {
+      add(c.b, c.point, -c.force_on_a);
+      partners_[c.a].push_back(c.b);
+      partners_[c.b].push_back(c.a);
+    }
+  }
+  const double cell = std::max(2.0 * max_bounding_radius_, 1e-12);
+  grid_ = GrainGrid(centres, cell);
+}
+
+void RveAverager::set_displacements(const Packing& later) {
+  const std::vector<int> index = later.index_by_body();
+  displacement_.assign(packing_.grains.size(), Vec2::Zero());
+  has_displacement_.assign(packing_.grains.size(), 0);
+  for (std::size_t p = 0; p < packing_.grains.size(); ++p) {
+    const auto body = packing_.grains[p].body;
+    if (body < 0 || body >= static_cast<std::int64_t>(index.size()) || index[body] < 0) continue;
+    displacement_[p] = later.grains[index[body]].centre - packing_.grains[p].centre;
+    has_displacement_[p] = 1;
+  }
+}
+
+RveSample RveAverager::average(const Vec2& point, double radius) const {
+  RveSample s;
+  s.volume = domain_.area_in_disc(point, radius);
+  const double r2 = radius * radius;
+  std::vector<int> inside;
+  double grain_area_inside = 0;
+  grid_.for_each_near(point, radius + max_bounding_radius_, [&](int p) {
+    const Grain& g = packing_.grains[p];
+    const double d = (g.centre - point).norm();
+    const double rb = bounding_radius_[p];
+    if ((g.centre - point).squaredNorm() <= r2) inside.push_back(p);
+    // Volume fraction from the outlines: whole grains, cut grains, or nothing.
+    if (d + rb <= radius) {
+      grain_area_inside += g.area;
+    } else if (d - rb < radius) {
+      if (g.shape && g.shape->kind == dem::ShapeKind::disc)
+        grain_area_inside += circle_circle_area(point, radius, g.centre, g.shape->radius);
+      else if (g.shape)
+        grain_area_inside += circle_polygon_area(point, radius, world_outline(g));
+    }
+  });
+  s.grain_count = static_cast<int>(inside.size());
+  if (s.volume <= 0 || inside.empty()) return s;
+  std::sort(inside.begin(), inside.end());  // a fixed summation order: reproducible sums
+  int contact_sum = 0;
+  for (int p : inside) {
+    s.stress += moment_[p];
+    s.fabric += packing_.grains[p].area * fabric_[p];
+    contact_sum += contacts_[p];
+  }
+  s.stress /= s.volume;
+  s.fabric /= s.volume;
+  s.coordination = static_cast<double>(contact_sum) / s.grain_count;
+  s.volume_fraction = grain_area_inside / s.volume;
+
+  if (displacement_.empty()) return s;
+  // Cambou's best fit (eq. 13-14): A = sum l l^T, B = sum l du^T, H^T = A^{-1} B. Each
+  // grain-grain contact with at least one grain inside counts once.
+  Tensor A = Tensor::Zero(), B = Tensor::Zero();
+  std::vector<std::pair<int, int>> pairs;
+  auto inside_rve = [&](int q) { return std::binary_search(inside.begin(), inside.end(), q); };
+  for (int p : inside)
+    for (int q : partners_[p]) {
+      if (inside_rve(q) && q < p) continue;  // counted from q's side
+      if (!has_displacement_[p] || !has_displacement_[q]) continue;
+      const Vec2 l = packing_.grains[q].centre - packing_.grains[p].centre;
+      const Vec2 du = displacement_[q] - displacement_[p];
+      A += l * l.transpose();
+      B += l * du.transpose();
+      pairs.emplace_back(p, q);
+    }
+  s.strain_contacts = static_cast<int>(pairs.size());
+  const double trace = A.trace();
+  if (pairs.size() < 2 || !(A.determinant() > 1e-10 * trace * trace)) return s;  // singular fit
+  s.displacement_gradient = (A.inverse() * B).transpose();
+  double residual = 0, total = 0;
+  for (const auto& [p, q] : pairs) {
+    const Vec2 l = packing_.grains[q].centre - packing_.grains[p].centre;
+    const Vec2 du = displacement_[q] - displacement_[p];
+    residual += (du - s.displacement_gradient * l).squaredNorm();
+    total += du.squaredNorm();
+  }
+  s.strain_fit_residual = total > 0 ? std::sqrt(residual / total) : 0.0;
+  s.has_strain = true;
+  return s;
+}
+
+TensorSummary summarise(const Tensor& t, double sign, bool by_magnitude) {
+  const Tensor sym = 0.5 * (t + t.transpose()) * sign;
+  Eigen::SelfAdjointEigenSolver<Tensor> eig(sym);
+  // Eigen sorts ascending: index 1 is the largest.
+  int major = 1;
+  if (by_magnitude && std::abs(eig.eigenvalues()(0)) > std::abs(eig.eigenvalues()(1))) major = 0;
+  const int minor = 1 - major;
+  TensorSummary s;
+  s.major = eig.eigenvalues()(major);
+  s.minor = eig.eigenvalues()(minor);
+  s.mean = 0.5 * (s.major + s.minor);
+  const double denom = std::abs(s.major) + std::abs(s.minor);
+  s.anisotropy = denom > 0 ? (s.major - s.minor) / denom : 0.0;
+  if (by_magnitude && denom > 0) s.anisotropy = std::abs(s.major - s.minor) / denom;
+  Vec2 v = eig.eigenvectors().col(major);
+  double angle = std::atan2(v.y(), v.x()) * 180.0 / M_PI;
+  if (angle <= -90) angle += 180;
+  if (angle > 90) angle -= 180;
+  s.orientation_deg = angle;
+  return s;
+}
+
+}  // namespace pilelab::coarse

@@ -1,0 +1,49 @@
+#include "mesh/mesh_run.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include "common/error.h"
+#include "common/report.h"
+#include "common/scene_reader.h"
+#include "common/scene_tables.h"
+#include "mesh/pile_mesh.h"
+
+namespace pilelab::mesh {
+
+nlohmann::json run_mesh(const MeshRunOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  MeshSpec spec = read_mesh_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string());
+  reader.reject_unknown({"mesh"}, scene_tables());
+  if (spec.kind == MeshSpec::Kind::dem_outline && spec.dem_file.empty())
+    spec.dem_file = (std::filesystem::path(opt.out_dir) / "dem.h5").string();
+
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out_dir, ec);
+  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+  const std::string msh = (std::filesystem::path(opt.out_dir) / "pile.msh").string();
+  write_mesh(spec, msh);
+  const TriangleMesh mesh = read_triangle_mesh(msh);
+
+  double area = 0;
+  for (const auto& t : mesh.triangles)
+    area += 0.5 * dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
+  double height = 0;
+  for (const auto& p : mesh.nodes) height = std::max(height, p.y());
+  const char* kinds[] = {"wedge", "block", "dem_outline"};
+  nlohmann::json section = {
+      {"file", "pile.msh"},
+      {"kind", kinds[static_cast<int>(spec.kind)]},
+      {"nodes", mesh.nodes.size()},
+      {"triangles", mesh.triangles.size()},
+      {"element_size_m", spec.element_size_m},
+      {"area_m2", area},
+      {"height_m", height},
+      {"wall_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
+  if (spec.kind == MeshSpec::Kind::dem_outline) section["dem_file"] = spec.dem_file;
+  write_report_section((std::filesystem::path(opt.out_dir) / "report.json").string(), "mesh", section);
+  return section;
+}
+
+}  // namespace pilelab::mesh

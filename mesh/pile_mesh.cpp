@@ -1,0 +1,268 @@
+#include "mesh/pile_mesh.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include <gmsh.h>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "dem/dem_file.h"
+#include "mesh/pile_outline.h"
+
+namespace pilelab::mesh {
+
+namespace {
+
+constexpr double degree = M_PI / 180.0;
+
+// gmsh keeps one global model; a session initialises it quietly and always finalises it, so
+// that deal.II's own gmsh reader finds a clean state afterwards.
+struct GmshSession {
+  GmshSession() {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 1);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+};
+
+// Physical groups named as deal.II's reader expects ("BoundaryID:n"), tag n as well so the
+// stream reader agrees.
+void add_boundary_group(const std::vector<int>& curves, BoundaryId id) {
+  if (curves.empty()) return;
+  gmsh::model::addPhysicalGroup(1, curves, id);
+  gmsh::model::setPhysicalName(1, id, "BoundaryID:" + std::to_string(id));
+}
+
+void add_material_group(const std::vector<int>& surfaces) {
+  gmsh::model::addPhysicalGroup(2, surfaces, 100);
+  gmsh::model::setPhysicalName(2, 100, "MaterialID:0");
+}
+
+// Lines through a chain of point tags; returns the line tags.
+std::vector<int> chain(const std::vector<int>& points) {
+  std::vector<int> lines;
+  for (std::size_t i = 0; i + 1 < points.size(); ++i)
+    lines.push_back(gmsh::model::geo::addLine(points[i], points[i + 1]));
+  return lines;
+}
+
+// The pile region bounded by the outline and the base y = 0. With embed_axis, the vertical
+// through the apex splits it into two surfaces that share the axis, so element edges follow
+// the axis.
+void build_pile(const Outline& outline, const MeshSpec& spec) {
+  const auto& s = outline.surface;
+  const int a = outline.apex_index;
+  const double size = spec.element_size_m;
+  const double axis_size = spec.axis_element_size_m > 0 ? spec.axis_element_size_m : size;
+  std::vector<int> pt(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i)
+    pt[i] = gmsh::model::geo::addPoint(s[i].x(), s[i].y(), 0.0, static_cast<int>(i) == a ? axis_size : size);
+  const std::vector<int> left_points(pt.begin(), pt.begin() + a + 1);  // left foot .. apex
+  const std::vector<int> right_points(pt.begin() + a, pt.end());       // apex .. right foot
+  const std::vector<int> left_flank = chain(left_points);
+  const std::vector<int> right_flank = chain(right_points);
+  const bool split = spec.embed_axis && s[a].x() > s.front().x() && s[a].x() < s.back().x();
+  std::vector<int> base, surfaces;
+  if (split) {
+    const int foot = gmsh::model::geo::addPoint(s[a].x(), 0.0, 0.0, axis_size);
+    const int base_left = gmsh::model::geo::addLine(pt.front(), foot);
+    const int base_right = gmsh::model::geo::addLine(foot, pt.back());
+    const int axis = gmsh::model::geo::addLine(foot, pt[a]);
+    base = {base_left, base_right};
+    // Left region: foot of the left flank -> axis foot -> apex -> down the left flank.
+    std::vector<int> left_loop = {base_left, axis};
+    for (auto it = left_flank.rbegin(); it != left_flank.rend(); ++it) left_loop.push_back(-*it);
+    // Right region: axis foot -> right foot -> up the right flank -> apex -> axis foot.
+    std::vector<int> right_loop = {base_right};
+    for (auto it = right_flank.rbegin(); it != right_flank.rend(); ++it) right_loop.push_back(-*it);
+    right_loop.push_back(-axis);
+    surfaces.push_back(gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(left_loop)}));
+    surfaces.push_back(gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(right_loop)}));
+  } else {
+    const int base_line = gmsh::model::geo::addLine(pt.front(), pt.back());
+    base = {base_line};
+    std::vector<int> loop = {base_line};
+    for (auto it = right_flank.rbegin(); it != right_flank.rend(); ++it) loop.push_back(-*it);
+    for (auto it = left_flank.rbegin(); it != left_flank.rend(); ++it) loop.push_back(-*it);
+    surfaces.push_back(gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)}));
+  }
+  gmsh::model::geo::synchronize();
+  add_boundary_group(base, BoundaryId::base);
+  add_boundary_group(left_flank, BoundaryId::left_flank);
+  add_boundary_group(right_flank, BoundaryId::right_flank);
+  add_material_group(surfaces);
+}
+
+void build_block(const Block& b, double size) {
+  const double w = b.width_m / 2;
+  const std::vector<int> p = {gmsh::model::geo::addPoint(-w, 0, 0, size), gmsh::model::geo::addPoint(w, 0, 0, size),
+                              gmsh::model::geo::addPoint(w, b.height_m, 0, size),
+                              gmsh::model::geo::addPoint(-w, b.height_m, 0, size)};
+  const std::vector<int> l = chain({p[0], p[1], p[2], p[3], p[0]});
+  const int surface = gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(l)});
+  gmsh::model::geo::synchronize();
+  add_boundary_group({l[0]}, BoundaryId::base);
+  add_boundary_group({l[1], l[3]}, BoundaryId::side_wall);
+  add_boundary_group({l[2]}, BoundaryId::top);
+  add_material_group({surface});
+}
+
+// Area enclosed by the outline and the base (shoelace over the closed polygon).
+double outline_area(const Outline& o) {
+  double twice = 0;
+  const auto& s = o.surface;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const dem::Vec2& p = s[i];
+    const dem::Vec2& q = s[(i + 1) % s.size()];
+    twice += p.x() * q.y() - q.x() * p.y();
+  }
+  return std::abs(twice) / 2;
+}
+
+// Refuses meshes that would take more than a few minutes to make (a typo in the size).
+void check_element_count(double area, const MeshSpec& spec) {
+  const double h = std::min(spec.element_size_m,
+                            spec.axis_element_size_m > 0 ? spec.axis_element_size_m : spec.element_size_m);
+  const double estimate = area / (0.433 * spec.element_size_m * spec.element_size_m);
+  if (estimate > 4e6 || h <= 0)
+    throw InputError("mesh.element_size_m = " + std::to_string(spec.element_size_m) +
+                     " m gives about " + std::to_string(static_cast<long>(estimate)) +
+                     " triangles; expected at most 4e6 (raise the element size)");
+}
+
+}  // namespace
+
+MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
+  MeshSpec spec;
+  const std::string kind = r.get_choice("mesh.kind", "wedge", {"wedge", "block", "dem_outline"});
+  spec.kind = kind == "wedge" ? MeshSpec::Kind::wedge : kind == "block" ? MeshSpec::Kind::block
+                                                                         : MeshSpec::Kind::dem_outline;
+  spec.wedge.height_m = r.get_double("mesh.height_m", spec.wedge.height_m, Range::positive());
+  spec.wedge.left_angle_deg = r.get_double("mesh.left_angle_deg", spec.wedge.left_angle_deg, {0, 90, true});
+  spec.wedge.right_angle_deg = r.get_double("mesh.right_angle_deg", spec.wedge.right_angle_deg, {0, 90, true});
+  spec.wedge.apex_x_m = r.get_double("mesh.apex_x_m", 0.0, Range{});
+  spec.block.width_m = r.get_double("mesh.width_m", spec.block.width_m, Range::positive());
+  spec.block.height_m = spec.wedge.height_m;
+  if (spec.wedge.left_angle_deg >= 90 || spec.wedge.right_angle_deg >= 90)
+    throw InputError(r.source() + ": mesh.left_angle_deg and mesh.right_angle_deg must lie in (0, 90) degrees");
+  const std::string dem_file = r.get_string("mesh.dem_file", "");
+  if (!dem_file.empty())
+    spec.dem_file = std::filesystem::path(dem_file).is_absolute() ? dem_file
+                                                                  : (std::filesystem::path(scene_dir) / dem_file).string();
+  spec.dem_snapshot = r.get_string("mesh.dem_snapshot", spec.dem_snapshot);
+  spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
+  spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
+  spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);
+  return spec;
+}
+
+Outline wedge_outline(const Wedge& w) {
+  Outline o;
+  o.surface = {{w.apex_x_m - w.height_m / std::tan(w.left_angle_deg * degree), 0.0},
+               {w.apex_x_m, w.height_m},
+               {w.apex_x_m + w.height_m / std::tan(w.right_angle_deg * degree), 0.0}};
+  o.apex_index = 1;
+  return o;
+}
+
+void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
+  Outline outline;
+  double area = 0;
+  switch (spec.kind) {
+    case MeshSpec::Kind::wedge:
+      outline = wedge_outline(spec.wedge);
+      area = outline_area(outline);
+      break;
+    case MeshSpec::Kind::block:
+      area = spec.block.width_m * spec.block.height_m;
+      break;
+    case MeshSpec::Kind::dem_outline: {
+      if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
+      const dem::DemFile file = dem::read_dem_file(spec.dem_file);
+      const dem::Snapshot snap = file.snapshot(spec.dem_snapshot);
+      outline = outline_of_pile(file, snap, spec.element_size_m, spec.element_size_m / 4);
+      area = outline_area(outline);
+      break;
+    }
+  }
+  check_element_count(area, spec);
+
+  write_atomically(msh_path, [&](const std::string& tmp) {
+    GmshSession session;
+    gmsh::model::add("pile");
+    if (spec.kind == MeshSpec::Kind::block)
+      build_block(spec.block, spec.element_size_m);
+    else
+      build_pile(outline, spec);
+    gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: well-shaped triangles
+    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+    gmsh::option::setNumber("Mesh.Binary", 0);
+    gmsh::model::mesh::generate(2);
+    // gmsh picks the format from the extension, so write X.msh and move it to the temporary name.
+    const std::string with_extension = tmp + ".msh";
+    gmsh::write(with_extension);
+    std::filesystem::rename(with_extension, tmp);
+  });
+}
+
+TriangleMesh read_triangle_mesh(const std::string& path) {
+  {
+    std::ifstream probe(path);
+    if (!probe) throw InputError(path + ": cannot open the mesh file (expected a gmsh .msh file)");
+  }
+  TriangleMesh mesh;
+  GmshSession session;
+  try {
+    gmsh::open(path);
+  } catch (...) {
+    throw InputError(path + ": gmsh cannot read this file (expected a gmsh .msh file)");
+  }
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coords, parametric;
+  gmsh::model::mesh::getNodes(node_tags, coords, parametric, -1, -1, false, false);
+  std::map<std::size_t, int> index_of;
+  for (std::size_t i = 0; i < node_tags.size(); ++i) {
+    index_of[node_tags[i]] = static_cast<int>(i);
+    mesh.nodes.emplace_back(coords[3 * i], coords[3 * i + 1]);
+  }
+  std::vector<std::size_t> element_tags, element_nodes;
+  gmsh::model::mesh::getElementsByType(2, element_tags, element_nodes);  // 3-node triangles
+  if (element_tags.empty())
+    throw InputError(path + ": the mesh holds no 3-node triangles (expected a 2D linear triangulation)");
+  for (std::size_t e = 0; e < element_tags.size(); ++e) {
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) t[k] = index_of.at(element_nodes[3 * e + k]);
+    const double twice_area = dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
+    if (!(twice_area > 0))
+      throw InputError(path + ": triangle " + std::to_string(element_tags[e]) +
+                       " is inverted or degenerate (expected counter-clockwise triangles of positive area)");
+    mesh.triangles.push_back(t);
+  }
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, 1);
+  for (const auto& [dim, tag] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(dim, tag, name);
+    int id = tag;
+    if (name.rfind("BoundaryID:", 0) == 0) id = std::stoi(name.substr(11));
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+    for (int entity : entities) {
+      std::vector<std::size_t> tags, nodes;
+      gmsh::model::mesh::getElementsByType(1, tags, nodes, entity);
+      for (std::size_t e = 0; e < tags.size(); ++e) {
+        mesh.boundary_edges.push_back({index_of.at(nodes[2 * e]), index_of.at(nodes[2 * e + 1])});
+        mesh.boundary_edge_ids.push_back(id);
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace pilelab::mesh

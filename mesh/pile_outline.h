@@ -1,0 +1,21 @@
+#pragma once
+// The free surface of a DEM pile as a polyline, for meshing the pile itself.
+//
+// Method: the x range of the grains is cut into strips of width strip_width; the surface in a
+// strip is the highest point of any grain polygon (or disc) whose centre lies in it. Empty
+// strips (gaps between run-out grains) are bridged by the straight line between their
+// neighbours. The polyline runs from the left foot (the leftmost grain point, y = 0) over the
+// strip tops to the right foot; it is then simplified (Douglas-Peucker) so that no surface
+// point moves by more than tolerance, which keeps tiny edges out of the mesh.
+#include "dem/dem_file.h"
+#include "mesh/pile_mesh.h"
+
+namespace pilelab::mesh {
+
+Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot, double strip_width,
+                        double tolerance);
+
+/// Douglas-Peucker simplification of an open polyline; the end points are kept.
+std::vector<dem::Vec2> simplify_polyline(const std::vector<dem::Vec2>& points, double tolerance);
+
+}  // namespace pilelab::mesh

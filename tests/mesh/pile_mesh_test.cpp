@@ -1,0 +1,106 @@
+// The pile triangulation: exact areas and boundary lengths of the ideal shapes, the boundary
+// convention deal.II relies on, and clear errors for bad mesh files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "common/error.h"
+#include "mesh/pile_mesh.h"
+
+using namespace pilelab::mesh;
+
+namespace {
+std::string temp_path(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pilelab_mesh_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+double mesh_area(const TriangleMesh& m) {
+  double a = 0;
+  for (const auto& t : m.triangles)
+    a += 0.5 * pilelab::dem::cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
+  return a;
+}
+
+std::map<int, double> boundary_lengths(const TriangleMesh& m) {
+  std::map<int, double> len;
+  for (std::size_t e = 0; e < m.boundary_edges.size(); ++e)
+    len[m.boundary_edge_ids[e]] += (m.nodes[m.boundary_edges[e][1]] - m.nodes[m.boundary_edges[e][0]]).norm();
+  return len;
+}
+}  // namespace
+
+// A polygonal domain is meshed exactly: the triangles tile it, so their areas sum to the
+// wedge's area and the tagged edges to its side lengths, up to round-off.
+TEST(PileMesh, AsymmetricWedgeIsTiledExactlyWithTaggedBoundaries) {
+  MeshSpec spec;
+  spec.wedge = {0.33, 28.0, 22.0, 0.05};
+  spec.element_size_m = 0.02;
+  spec.axis_element_size_m = 0.01;
+  const std::string path = temp_path("wedge.msh");
+  write_mesh(spec, path);
+  const TriangleMesh m = read_triangle_mesh(path);
+  const double h = 0.33, tl = std::tan(28.0 * M_PI / 180), tr = std::tan(22.0 * M_PI / 180);
+  EXPECT_NEAR(mesh_area(m), 0.5 * h * h * (1 / tl + 1 / tr), 1e-12);
+  const auto len = boundary_lengths(m);
+  EXPECT_NEAR(len.at(BoundaryId::base), h / tl + h / tr, 1e-12);
+  EXPECT_NEAR(len.at(BoundaryId::left_flank), h / std::sin(28.0 * M_PI / 180), 1e-12);
+  EXPECT_NEAR(len.at(BoundaryId::right_flank), h / std::sin(22.0 * M_PI / 180), 1e-12);
+  // The axis is embedded: nodes lie on x = apex_x all the way down.
+  int on_axis = 0;
+  for (const auto& p : m.nodes) on_axis += std::abs(p.x() - 0.05) < 1e-12;
+  EXPECT_GE(on_axis, static_cast<int>(h / 0.01));
+}
+
+TEST(PileMesh, BlockHasBaseSideWallsAndTop) {
+  MeshSpec spec;
+  spec.kind = MeshSpec::Kind::block;
+  spec.block = {2.0, 1.0};
+  spec.element_size_m = 0.1;
+  const std::string path = temp_path("block.msh");
+  write_mesh(spec, path);
+  const TriangleMesh m = read_triangle_mesh(path);
+  EXPECT_NEAR(mesh_area(m), 2.0, 1e-12);
+  const auto len = boundary_lengths(m);
+  EXPECT_NEAR(len.at(BoundaryId::base), 2.0, 1e-12);
+  EXPECT_NEAR(len.at(BoundaryId::side_wall), 2.0, 1e-12);
+  EXPECT_NEAR(len.at(BoundaryId::top), 2.0, 1e-12);
+}
+
+TEST(PileMesh, MissingFileIsNamed) {
+  try {
+    read_triangle_mesh("/nonexistent/pile.msh");
+    FAIL();
+  } catch (const pilelab::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/pile.msh"), std::string::npos);
+  }
+}
+
+TEST(PileMesh, CorruptFileIsAnError) {
+  const std::string path = temp_path("corrupt.msh");
+  std::ofstream(path) << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n2 1 0 3\n1\n";
+  EXPECT_THROW(read_triangle_mesh(path), pilelab::InputError);
+}
+
+TEST(PileMesh, InvertedTriangleIsRefused) {
+  // One clockwise triangle in MSH 2.2 ASCII.
+  const std::string path = temp_path("inverted.msh");
+  std::ofstream(path) << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 0 1 0\n3 1 0 0\n$EndNodes\n"
+                         "$Elements\n1\n1 2 2 100 1 1 2 3\n$EndElements\n";
+  try {
+    read_triangle_mesh(path);
+    FAIL();
+  } catch (const pilelab::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("inverted"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PileMesh, AbsurdElementCountIsRefused) {
+  MeshSpec spec;
+  spec.element_size_m = 1e-5;
+  EXPECT_THROW(write_mesh(spec, temp_path("huge.msh")), pilelab::InputError);
+}

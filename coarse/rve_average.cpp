@@ -49,7 +49,11 @@ RveAverager::RveAverager(const Packing& packing, Domain domain) : packing_(packi
       partners_[c.b].push_back(c.a);
     }
   }
-  const double cell = std::max(2.0 * max_bounding_radius_, 1e-12);
+  // Cells of two grain sizes, but never more cells than about one per grain (point grains).
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (const Vec2& c : centres) x0 = std::min(x0, c.x()), x1 = std::max(x1, c.x()), y0 = std::min(y0, c.y()), y1 = std::max(y1, c.y());
+  const double spread = n ? std::sqrt(std::max((x1 - x0) * (y1 - y0), (x1 - x0 + y1 - y0) * (x1 - x0 + y1 - y0) * 1e-6) / n) : 1.0;
+  const double cell = std::max({2.0 * max_bounding_radius_, spread, 1e-9});
   grid_ = GrainGrid(centres, cell);
 }
 

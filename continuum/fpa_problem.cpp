@@ -1,0 +1,285 @@
+#include "continuum/fpa_problem.h"
+
+#include <cmath>
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+namespace pilelab::continuum {
+
+using namespace dealii;
+
+namespace {
+constexpr double degree_to_rad = M_PI / 180.0;
+// Free-surface boundary ids (mesh/pile_mesh.h): left and right flank, top of a block.
+bool is_free_surface(types::boundary_id id) { return id == 2 || id == 3 || id == 5; }
+}  // namespace
+
+FpaProblem::FpaProblem(const Triangulation2& tria, const FpaSettings& settings, double density, double gravity,
+                       double apex_x)
+    : comm_(tria.get_communicator()),
+      tria_(tria),
+      settings_(settings),
+      density_(density),
+      gravity_(gravity),
+      apex_x_(apex_x),
+      fe_(FE_SimplexP<2>(settings.degree), 2),
+      dof_handler_(tria) {}
+
+double FpaProblem::closure_coefficient(const TriaAccessor<2, 2, 2>& cell) const {
+  // psi = pi/4 - phi/2, so cot(2 psi) = tan(phi): the closure s_xx - s_yy = 2 s cot(2 psi) s_xy.
+  const bool right = cell.center()[0] > apex_x_;
+  return right ? 2.0 * std::tan(settings_.right_repose_angle_deg * degree_to_rad)
+               : -2.0 * std::tan(settings_.left_repose_angle_deg * degree_to_rad);
+}
+
+const FpaResult& FpaProblem::run() {
+  Timer timer;
+  setup_system();
+  result_.setup_s = timer.wall_time();
+  timer.restart();
+  assemble_system();
+  result_.assemble_s = timer.wall_time();
+  timer.restart();
+  solve();
+  result_.solve_s = timer.wall_time();
+  compute_base_force();
+  return result_;
+}
+
+void FpaProblem::setup_system() {
+  dof_handler_.distribute_dofs(fe_);
+  owned_ = dof_handler_.locally_owned_dofs();
+  relevant_ = DoFTools::extract_locally_relevant_dofs(dof_handler_);
+  result_.n_dofs = dof_handler_.n_dofs();
+  result_.n_cells = tria_.n_global_active_cells();
+
+  // Strongly imposed free surface: s_xx = s_xy = 0 there (then s_yy = 0 too, by the closure).
+  // This is the complete inflow data of the hyperbolic problem; the base gets nothing.
+  constraints_.clear();
+  constraints_.reinit(relevant_);
+  if (settings_.surface == FpaSettings::Surface::strong)
+    for (const auto id : tria_.get_boundary_ids())
+      if (is_free_surface(id))
+        VectorTools::interpolate_boundary_values(simplex_mapping(), dof_handler_, id, Functions::ZeroFunction<2>(2),
+                                                 constraints_);
+  constraints_.close();
+
+  DynamicSparsityPattern dsp(relevant_);
+  DoFTools::make_sparsity_pattern(dof_handler_, dsp, constraints_, false);
+  SparsityTools::distribute_sparsity_pattern(dsp, owned_, comm_, relevant_);
+  system_matrix_.reinit(owned_, owned_, dsp, comm_);
+  system_rhs_.reinit(owned_, comm_);
+  solution_.reinit(owned_, relevant_, comm_);
+  cache_ = std::make_unique<GridTools::Cache<2>>(tria_, simplex_mapping());
+}
+
+// The normal equations of J: with the two first-order residual operators
+//   L1 s = d_x s_xx + d_y s_xy,   L2 s = d_x s_xy + d_y s_xx - k d_y s_xy   (k = 2 s tan phi),
+// A_ij = int L1 phi_i L1 phi_j + L2 phi_i L2 phi_j,   b_i = int rho g L2 phi_i,
+// plus, for the weak surface, gamma/h_F int_F (sigma(phi_i) n) . (sigma(phi_j) n).
+void FpaProblem::assemble_system() {
+  const QGaussSimplex<2> quadrature(fe_.degree + 1);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature, update_gradients | update_JxW_values);
+  const QGaussSimplex<1> face_quadrature(fe_.degree + 1);
+  FEFaceValues<2> fe_face(simplex_mapping(), fe_, face_quadrature,
+                          update_values | update_normal_vectors | update_JxW_values);
+  const unsigned n = fe_.n_dofs_per_cell(), nq = quadrature.size();
+  FullMatrix<double> cell_matrix(n, n);
+  Vector<double> cell_rhs(n);
+  std::vector<types::global_dof_index> dofs(n);
+  std::vector<double> L1(n), L2(n);
+  std::vector<Tensor<1, 2>> traction(n);
+  const FEValuesExtractors::Scalar sxx(0), sxy(1);
+  const double rho_g = density_ * gravity_;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    fe_values.reinit(cell);
+    const double k = closure_coefficient(*cell);
+    cell_matrix = 0;
+    cell_rhs = 0;
+    for (unsigned q = 0; q < nq; ++q) {
+      for (unsigned i = 0; i < n; ++i) {
+        const Tensor<1, 2> g_xx = fe_values[sxx].gradient(i, q), g_xy = fe_values[sxy].gradient(i, q);
+        L1[i] = g_xx[0] + g_xy[1];
+        L2[i] = g_xy[0] + g_xx[1] - k * g_xy[1];
+      }
+      const double JxW = fe_values.JxW(q);
+      for (unsigned i = 0; i < n; ++i) {
+        for (unsigned j = 0; j <= i; ++j) cell_matrix(i, j) += (L1[i] * L1[j] + L2[i] * L2[j]) * JxW;
+        cell_rhs(i) += rho_g * L2[i] * JxW;
+      }
+    }
+    if (settings_.surface == FpaSettings::Surface::weak)
+      for (const auto f : cell->face_indices()) {
+        if (!cell->face(f)->at_boundary() || !is_free_surface(cell->face(f)->boundary_id())) continue;
+        fe_face.reinit(cell, f);
+        const double weight = settings_.surface_weight / cell->face(f)->diameter();
+        for (unsigned q = 0; q < face_quadrature.size(); ++q) {
+          const Tensor<1, 2> nrm = fe_face.normal_vector(q);
+          for (unsigned i = 0; i < n; ++i) {
+            const double a = fe_face[sxx].value(i, q), b = fe_face[sxy].value(i, q);
+            // sigma n with s_yy = s_xx - k s_xy
+            traction[i][0] = a * nrm[0] + b * nrm[1];
+            traction[i][1] = b * nrm[0] + (a - k * b) * nrm[1];
+          }
+          for (unsigned i = 0; i < n; ++i)
+            for (unsigned j = 0; j <= i; ++j)
+              cell_matrix(i, j) += weight * (traction[i] * traction[j]) * fe_face.JxW(q);
+        }
+      }
+    for (unsigned i = 0; i < n; ++i)
+      for (unsigned j = i + 1; j < n; ++j) cell_matrix(i, j) = cell_matrix(j, i);
+    cell->get_dof_indices(dofs);
+    constraints_.distribute_local_to_global(cell_matrix, cell_rhs, dofs, system_matrix_, system_rhs_);
+  }
+  system_matrix_.compress(VectorOperation::add);
+  system_rhs_.compress(VectorOperation::add);
+}
+
+void FpaProblem::solve() {
+  PETScWrappers::MPI::Vector x(owned_, comm_);
+  result_.solver = solve_spd(system_matrix_, x, system_rhs_, {}, settings_.solver);
+  constraints_.distribute(x);
+  solution_ = x;
+}
+
+// Base force (as for elasticity) and the size of the residual J(s_h)^(1/2).
+void FpaProblem::compute_base_force() {
+  const QGaussSimplex<1> face_quadrature(fe_.degree + 1);
+  FEFaceValues<2> fe_face(simplex_mapping(), fe_, face_quadrature, update_values | update_JxW_values);
+  const QGaussSimplex<2> quadrature(fe_.degree + 1);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature, update_gradients | update_JxW_values);
+  std::vector<Vector<double>> values(face_quadrature.size(), Vector<double>(2));
+  std::vector<std::vector<Tensor<1, 2>>> grads(quadrature.size(), std::vector<Tensor<1, 2>>(2));
+  const double rho_g = density_ * gravity_;
+  double fy = 0, fx = 0, area = 0, J = 0;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    area += cell->measure();
+    const double k = closure_coefficient(*cell);
+    fe_values.reinit(cell);
+    fe_values.get_function_gradients(solution_, grads);
+    for (unsigned q = 0; q < quadrature.size(); ++q) {
+      const double r1 = grads[q][0][0] + grads[q][1][1];
+      const double r2 = grads[q][1][0] + grads[q][0][1] - k * grads[q][1][1] - rho_g;
+      J += (r1 * r1 + r2 * r2) * fe_values.JxW(q);
+    }
+    for (const auto f : cell->face_indices()) {
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
+      fe_face.reinit(cell, f);
+      fe_face.get_function_values(solution_, values);
+      for (unsigned q = 0; q < values.size(); ++q) {
+        const Stress2 p = stress_from(values[q][0], values[q][1], k);
+        fy += p.yy * fe_face.JxW(q);
+        fx += p.xy * fe_face.JxW(q);
+      }
+    }
+  }
+  result_.base_force_N = Utilities::MPI::sum(fy, comm_);
+  result_.base_shear_force = Utilities::MPI::sum(fx, comm_);
+  result_.weight = rho_g * Utilities::MPI::sum(area, comm_);
+  result_.residual_norm = std::sqrt(Utilities::MPI::sum(J, comm_));
+}
+
+bool FpaProblem::stress_at(const Point<2>& p, Stress2& stress) const {
+  const auto found = GridTools::find_active_cell_around_point(*cache_, p);
+  if (found.first.state() != IteratorState::valid || !found.first->is_locally_owned()) return false;
+  const typename DoFHandler<2>::active_cell_iterator cell(&tria_, found.first->level(), found.first->index(),
+                                                          &dof_handler_);
+  FEValues<2> fe_values(simplex_mapping(), fe_, Quadrature<2>(found.second), update_values);
+  fe_values.reinit(cell);
+  std::vector<Vector<double>> v(1, Vector<double>(2));
+  fe_values.get_function_values(solution_, v);
+  stress = stress_from(v[0][0], v[0][1], closure_coefficient(*cell));
+  return true;
+}
+
+double FpaProblem::base_pressure_error(const std::function<double(double)>& exact) const {
+  const QGaussSimplex<1> face_quadrature(fe_.degree + 3);
+  FEFaceValues<2> fe_face(simplex_mapping(), fe_, face_quadrature,
+                          update_values | update_quadrature_points | update_JxW_values);
+  std::vector<Vector<double>> values(face_quadrature.size(), Vector<double>(2));
+  double e2 = 0;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    for (const auto f : cell->face_indices()) {
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
+      fe_face.reinit(cell, f);
+      fe_face.get_function_values(solution_, values);
+      const double k = closure_coefficient(*cell);
+      for (unsigned q = 0; q < values.size(); ++q) {
+        const double e = stress_from(values[q][0], values[q][1], k).yy - exact(fe_face.quadrature_point(q)[0]);
+        e2 += e * e * fe_face.JxW(q);
+      }
+    }
+  }
+  return std::sqrt(Utilities::MPI::sum(e2, comm_));
+}
+
+double FpaProblem::stress_error(const std::function<Stress2(const Point<2>&)>& exact) const {
+  const QGaussSimplex<2> quadrature(fe_.degree + 2);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature, update_values | update_quadrature_points | update_JxW_values);
+  std::vector<Vector<double>> values(quadrature.size(), Vector<double>(2));
+  double e2 = 0;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    fe_values.reinit(cell);
+    fe_values.get_function_values(solution_, values);
+    const double k = closure_coefficient(*cell);
+    for (unsigned q = 0; q < values.size(); ++q) {
+      const Stress2 h = stress_from(values[q][0], values[q][1], k), x = exact(fe_values.quadrature_point(q));
+      e2 += ((h.xx - x.xx) * (h.xx - x.xx) + (h.yy - x.yy) * (h.yy - x.yy) + 2 * (h.xy - x.xy) * (h.xy - x.xy)) *
+            fe_values.JxW(q);
+    }
+  }
+  return std::sqrt(Utilities::MPI::sum(e2, comm_));
+}
+
+std::vector<std::string> FpaProblem::quantity_names() {
+  return {"sigma_xx", "sigma_yy", "sigma_xy", "anisotropy", "major_axis_deg"};
+}
+
+PointEvaluator FpaProblem::profile_evaluator(double rho_g_h) const {
+  return [this, rho_g_h](const Point<2>& p, std::vector<double>& v) {
+    Stress2 s;
+    if (!stress_at(p, s)) return false;
+    const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
+    v = {s.xx / rho_g_h, s.yy / rho_g_h, s.xy / rho_g_h, pr.anisotropy, pr.major_axis_deg};
+    return true;
+  };
+}
+
+std::string FpaProblem::output_results(const std::string& out_dir, double rho_g_h) const {
+  DataOut<2> data_out;
+  data_out.set_cell_selection([](const typename Triangulation<2>::cell_iterator& cell) {
+    return cell->is_active() && cell->is_locally_owned();
+  });
+  data_out.attach_dof_handler(dof_handler_);
+  const StressPostprocessor stresses(
+      [this](const DataPostprocessorInputs::Vector<2>& in, unsigned q) {
+        const auto cell = in.template get_cell<2>();
+        return stress_from(in.solution_values[q][0], in.solution_values[q][1], closure_coefficient(*cell));
+      },
+      update_values, rho_g_h);
+  data_out.add_data_vector(solution_, stresses);
+  Vector<float> side(tria_.n_active_cells()), rank(tria_.n_active_cells());
+  for (const auto& cell : tria_.active_cell_iterators()) {
+    side(cell->active_cell_index()) = closure_coefficient(*cell) > 0 ? 1.f : -1.f;
+    rank(cell->active_cell_index()) = cell->subdomain_id();
+  }
+  data_out.add_data_vector(side, "closure_side");
+  data_out.add_data_vector(rank, "mpi_rank");
+  data_out.build_patches(simplex_mapping(), fe_.degree);
+  return write_vtu(data_out, out_dir, "fpa", comm_);
+}
+
+}  // namespace pilelab::continuum

@@ -1,0 +1,27 @@
+#pragma once
+// The two ways the continuum models solve their symmetric positive-definite systems:
+// conjugate gradients preconditioned with PETSc's algebraic multigrid (GAMG, smoothed
+// aggregation, given the near-null space of the operator when there is one), or MUMPS's
+// parallel sparse Cholesky for small problems.
+#include <vector>
+
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+#include "continuum/settings.h"
+
+namespace pilelab::continuum {
+
+struct SolveStats {
+  unsigned iterations = 0;       ///< CG iterations; 1 for the direct solver
+  double relative_residual = 0;  ///< |b - A x| / |b| on return
+};
+
+/// Solves A x = b. near_null_space: vectors spanning the kernel of the unconstrained operator
+/// (for elasticity the rigid-body modes), handed to GAMG so that its coarse spaces represent
+/// them; may be empty. Throws std::runtime_error if the iteration does not converge.
+SolveStats solve_spd(const dealii::PETScWrappers::MPI::SparseMatrix& A, dealii::PETScWrappers::MPI::Vector& x,
+                     const dealii::PETScWrappers::MPI::Vector& b,
+                     std::vector<dealii::PETScWrappers::MPI::Vector> near_null_space, const SolverSettings& settings);
+
+}  // namespace pilelab::continuum

@@ -1,0 +1,190 @@
+// `pilelab solve`: read the scene, find or make the mesh, solve each model the scene lists, and
+// write the fields, the profiles and the report section. Every rank runs this; rank 0 alone
+// writes the shared files (report.json, profiles.csv, pile.msh, the .pvtu record).
+#include "continuum/solve.h"
+
+#include <filesystem>
+#include <iostream>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
+
+#include "common/error.h"
+#include "common/report.h"
+#include "common/scene_reader.h"
+#include "continuum/elastic_problem.h"
+#include "continuum/fpa_problem.h"
+#include "continuum/pile_domain.h"
+#include "continuum/settings.h"
+#include "mesh/mesh_run.h"
+
+namespace pilelab::continuum {
+
+using namespace dealii;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Runs fn on rank 0 and rethrows its InputError (or other failure) on every rank, so that an
+// error there cannot leave the other ranks waiting.
+void on_rank0(MPI_Comm comm, const std::function<void()>& fn) {
+  std::string error;
+  int kind = 0;  // 0 ok, 1 InputError, 2 other
+  if (Utilities::MPI::this_mpi_process(comm) == 0) {
+    try {
+      fn();
+    } catch (const InputError& e) {
+      error = e.what();
+      kind = 1;
+    } catch (const std::exception& e) {
+      error = e.what();
+      kind = 2;
+    }
+  }
+  kind = Utilities::MPI::broadcast(comm, kind, 0);
+  error = Utilities::MPI::broadcast(comm, error, 0);
+  if (kind == 1) throw InputError(error);
+  if (kind == 2) throw std::runtime_error(error);
+}
+
+// The mesh: continuum.mesh_file if given, else OUT/pile.msh if a mesh stage made it, else one
+// generated now from the scene's [mesh] table (the `pilelab mesh` stage, run on rank 0).
+std::string find_or_make_mesh(const ContinuumSettings& s, const SolveOptions& o, MPI_Comm comm,
+                              ConditionalOStream& pcout) {
+  if (!s.mesh_file.empty()) {
+    if (!fs::exists(s.mesh_file))
+      throw InputError(o.scene_path + ": continuum.mesh_file: " + s.mesh_file +
+                       " does not exist (expected a gmsh .msh file)");
+    return s.mesh_file;
+  }
+  const std::string pile = (fs::path(o.out_dir) / "pile.msh").string();
+  if (fs::exists(pile)) return pile;
+  if (!s.has_mesh_table)
+    throw InputError(o.scene_path + ": no mesh: expected continuum.mesh_file, an existing " + pile +
+                     " (from `pilelab mesh`), or a [mesh] table to generate one from");
+  pcout << "continuum: no " << pile << ", generating it from the scene's [mesh] table\n";
+  on_rank0(comm, [&] { mesh::run_mesh({o.scene_path, o.out_dir}); });
+  return pile;
+}
+
+nlohmann::json solver_json(const SolverSettings& s, const SolveStats& st) {
+  return {{"solver", s.kind == SolverSettings::Kind::direct ? "direct (MUMPS Cholesky)" : "CG + GAMG"},
+          {"tolerance", s.relative_tolerance},
+          {"iterations", st.iterations},
+          {"relative_residual", st.relative_residual}};
+}
+
+}  // namespace
+
+nlohmann::json run_solve(const SolveOptions& o) {
+  const MPI_Comm comm = MPI_COMM_WORLD;
+  const bool root = Utilities::MPI::this_mpi_process(comm) == 0;
+  ConditionalOStream pcout(std::cout, root && !o.quiet);
+  Timer total;
+
+  SceneReader reader = SceneReader::from_file(o.scene_path);
+  const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
+  const ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
+  on_rank0(comm, [&] { fs::create_directories(o.out_dir); });
+
+  const std::string msh = find_or_make_mesh(s, o, comm, pcout);
+  auto tria = make_triangulation(comm);
+  read_pile_mesh(msh, *tria);
+  const PileGeometry pile = measure_pile(*tria);
+  const double rho_g = s.density_kg_per_m2 * s.gravity_m_per_s2, rho_g_h = rho_g * pile.height_m;
+  pcout << "continuum: " << msh << ": " << tria->n_global_active_cells() << " triangles, height " << pile.height_m
+        << " m, apex at x = " << pile.apex_x_m << " m, " << Utilities::MPI::n_mpi_processes(comm) << " MPI rank(s)\n";
+
+  nlohmann::json report = {{"mesh_file", msh},
+                           {"mpi_ranks", Utilities::MPI::n_mpi_processes(comm)},
+                           {"cells", tria->n_global_active_cells()},
+                           {"pile_height_m", pile.height_m},
+                           {"apex_x_m", pile.apex_x_m},
+                           {"area_m2", pile.area_m2},
+                           {"density_kg_per_m2", s.density_kg_per_m2},
+                           {"gravity_m_per_s2", s.gravity_m_per_s2},
+                           {"rho_g_h_N_per_m", rho_g_h},
+                           {"stress_sign", "compressive positive"}};
+  std::vector<ProfileRow> rows;
+
+  if (s.elastic) {
+    Timer timer;
+    const ElasticSettings& e = s.elastic_model;
+    ElasticProblem problem(*tria, e, s.density_kg_per_m2, s.gravity_m_per_s2);
+    const ElasticResult& r = problem.run();
+    const std::string file = problem.output_results(o.out_dir, rho_g_h);
+    auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "elastic",
+                                   ElasticProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
+    rows.insert(rows.end(), profile.begin(), profile.end());
+    const double wall = timer.wall_time();
+    pcout << "elastic: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
+          << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
+    report["elastic"] = {{"dofs", r.n_dofs},
+                         {"degree", e.degree},
+                         {"plane", e.plane == ElasticSettings::Plane::strain ? "strain" : "stress"},
+                         {"base", e.base == ElasticSettings::Base::rough ? "rough" : "smooth"},
+                         {"youngs_modulus_N_per_m", e.youngs_modulus_N_per_m},
+                         {"poisson_ratio", e.poisson_ratio},
+                         {"gravity_change", e.gravity_change},
+                         {"linear_solver", solver_json(e.solver, r.solver)},
+                         {"iterations", r.solver.iterations},
+                         {"setup_s", r.setup_s},
+                         {"assemble_s", r.assemble_s},
+                         {"solve_s", r.solve_s},
+                         {"wall_time_s", wall},
+                         {"weight_N", r.weight},
+                         {"base_force_N", r.base_force_N},
+                         {"base_force_over_weight", r.base_force_N / r.weight},
+                         {"base_shear_over_weight", r.base_shear_force / r.weight},
+                         {"file", fs::path(file).filename().string()}};
+  }
+  if (s.fpa) {
+    Timer timer;
+    const FpaSettings& f = s.fpa_model;
+    FpaProblem problem(*tria, f, s.density_kg_per_m2, s.gravity_m_per_s2, pile.apex_x_m);
+    const FpaResult& r = problem.run();
+    const std::string file = problem.output_results(o.out_dir, rho_g_h);
+    auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "fpa",
+                                   FpaProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
+    rows.insert(rows.end(), profile.begin(), profile.end());
+    const double wall = timer.wall_time();
+    pcout << "fpa: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
+          << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
+    report["fpa"] = {{"dofs", r.n_dofs},
+                     {"degree", f.degree},
+                     {"left_repose_angle_deg", f.left_repose_angle_deg},
+                     {"right_repose_angle_deg", f.right_repose_angle_deg},
+                     {"surface", f.surface == FpaSettings::Surface::strong ? "strong" : "weak"},
+                     {"linear_solver", solver_json(f.solver, r.solver)},
+                     {"iterations", r.solver.iterations},
+                     {"setup_s", r.setup_s},
+                     {"assemble_s", r.assemble_s},
+                     {"solve_s", r.solve_s},
+                     {"wall_time_s", wall},
+                     {"weight_N", r.weight},
+                     {"base_force_N", r.base_force_N},
+                     {"base_force_over_weight", r.base_force_N / r.weight},
+                     {"base_shear_over_weight", r.base_shear_force / r.weight},
+                     {"equilibrium_residual_over_weight", r.residual_norm * std::sqrt(pile.area_m2) / r.weight},
+                     {"file", fs::path(file).filename().string()}};
+  }
+  report["wall_time_s"] = total.wall_time();
+  on_rank0(comm, [&] {
+    write_profiles_csv((fs::path(o.out_dir) / "profiles.csv").string(), rows);
+    write_report_section((fs::path(o.out_dir) / "report.json").string(), "continuum", report);
+  });
+  return report;
+}
+
+void run_solve_command(const SolveOptions& options) {
+  // MPI (and PETSc) for this subcommand only; one thread per rank, the ranks do the work.
+  int argc = 1;
+  char name[] = "pilelab";
+  char* args[] = {name, nullptr};
+  char** argv = args;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  run_solve(options);
+}
+
+}  // namespace pilelab::continuum

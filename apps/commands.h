@@ -7,6 +7,7 @@ namespace pilelab::app {
 
 void add_dem_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
+void add_coarse_command(CLI::App& app);
 #ifdef PILELAB_WITH_CONTINUUM
 void add_solve_command(CLI::App& app);
 #endif

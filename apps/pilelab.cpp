@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "pilelab 0.1.0");
   pilelab::app::add_dem_command(app);
   pilelab::app::add_mesh_command(app);
+  pilelab::app::add_coarse_command(app);
 #ifdef PILELAB_WITH_CONTINUUM
   pilelab::app::add_solve_command(app);
 #endif

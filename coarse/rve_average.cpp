@@ -1,6 +1,7 @@
 #include "coarse/rve_average.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 
@@ -105,6 +106,10 @@ RveSample RveAverager::average(const Vec2& point, double radius) const {
   s.volume_fraction = grain_area_inside / s.volume;
 
   if (displacement_.empty()) return s;
+  int moved = 0;
+  for (int p : inside)
+    if (has_displacement_[p]) s.displacement += displacement_[p], ++moved;
+  if (moved) s.displacement /= moved;
   // Cambou's best fit (eq. 13-14): A = sum l l^T, B = sum l du^T, H^T = A^{-1} B. Each
   // grain-grain contact with at least one grain inside counts once.
   Tensor A = Tensor::Zero(), B = Tensor::Zero();
@@ -152,8 +157,8 @@ TensorSummary summarise(const Tensor& t, double sign, bool by_magnitude) {
   if (by_magnitude && denom > 0) s.anisotropy = std::abs(s.major - s.minor) / denom;
   Vec2 v = eig.eigenvectors().col(major);
   double angle = std::atan2(v.y(), v.x()) * 180.0 / M_PI;
-  if (angle <= -90) angle += 180;
-  if (angle > 90) angle -= 180;
+  if (angle < 0) angle += 180;
+  if (angle >= 180) angle -= 180;
   s.orientation_deg = angle;
   return s;
 }

@@ -45,6 +45,7 @@ struct RveSample {
   // Strain (only with displacements; has_strain is false for too few or collinear contacts).
   bool has_strain = false;
   int strain_contacts = 0;
+  dem::Vec2 displacement{0, 0};  ///< mean grain-centre displacement of the grains inside [m]
   Tensor displacement_gradient = Tensor::Zero();  ///< H_ij = du_i/dx_j
   double strain_fit_residual = 0.0;  ///< sqrt(sum |du - H l|^2 / sum |du|^2): 0 = affine
   bool has_data() const { return grain_count > 0; }
@@ -86,7 +87,8 @@ struct TensorSummary {
   double major = 0.0, minor = 0.0;   ///< principal values, major first (see the rule below)
   double mean = 0.0;                 ///< (major + minor) / 2
   double anisotropy = 0.0;           ///< (major - minor) / (|major| + |minor|), 0 if both vanish
-  double orientation_deg = 0.0;      ///< major eigenvector from the horizontal, in (-90, 90]
+  double orientation_deg = 0.0;      ///< major axis from the horizontal, counter-clockwise, in [0, 180):
+                                     ///< an axis near the vertical reads about 90 on both sides
 };
 /// The major value is the largest one of sign * tensor: sign = -1 makes the most compressive
 /// stress the major one (compression positive); for strain, pass the tensor and

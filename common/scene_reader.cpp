@@ -135,6 +135,22 @@ std::vector<double> SceneReader::get_double_list(std::string_view key,
   return out;
 }
 
+std::vector<std::string> SceneReader::get_string_list(std::string_view key,
+                                                      const std::vector<std::string>& fallback) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  const toml::array* a = n->as_array();
+  if (!a) fail(key, "expected an array of strings");
+  std::vector<std::string> out;
+  for (const auto& e : *a) {
+    auto v = e.value_exact<std::string>();
+    if (!v) fail(key, "expected an array of strings");
+    out.push_back(*v);
+  }
+  return out;
+}
+
 namespace {
 void collect_leaves(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
   for (const auto& [k, v] : t) {

@@ -46,6 +46,7 @@ class SceneReader {
                          const std::vector<std::string>& choices);
   std::vector<double> get_double_list(std::string_view key, const std::vector<double>& fallback,
                                       Range range);
+  std::vector<std::string> get_string_list(std::string_view key, const std::vector<std::string>& fallback);
 
   /// Throws InputError for any key under the given top-level tables that no get_* call asked
   /// for, and for any top-level table not in known_tables.

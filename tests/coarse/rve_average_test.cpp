@@ -209,7 +209,9 @@ TEST(TensorSummary, PrincipalValuesAndOrientation) {
   EXPECT_NEAR(s.mean, 2.0, 1e-14);
   EXPECT_NEAR(s.anisotropy, 0.5, 1e-14);
   EXPECT_NEAR(s.orientation_deg, 30.0, 1e-12);
-  // Orientation is an axis: -150 degrees is reported as 30.
+  // Orientation is an axis: -150 degrees is reported as 30, -30 as 150.
   const TensorSummary t = summarise(rotation(-150 * M_PI / 180) * d * rotation(-150 * M_PI / 180).transpose(), -1.0);
   EXPECT_NEAR(t.orientation_deg, 30.0, 1e-12);
+  const TensorSummary u = summarise(rotation(-30 * M_PI / 180) * d * rotation(-30 * M_PI / 180).transpose(), -1.0);
+  EXPECT_NEAR(u.orientation_deg, 150.0, 1e-12);
 }

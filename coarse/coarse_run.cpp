@@ -1,0 +1,444 @@
+#include "coarse/coarse_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+
+#include "coarse/coarse_scene.h"
+#include "coarse/kernel_average.h"
+#include "coarse/quantities.h"
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/hdf5_file.h"
+#include "common/report.h"
+#include "common/scene_tables.h"
+#include "mesh/pile_mesh.h"
+
+namespace pilelab::coarse {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// One pile: its packing at the averaged snapshot, the later one for strains, the averager.
+struct Pile {
+  std::string path;
+  std::unique_ptr<Packing> packing, later;
+  std::unique_ptr<RveAverager> rve;
+  std::unique_ptr<KernelAverager> kernel;
+  double height = 0.0;      ///< top of the highest grain [m]
+  double grain_area = 0.0;  ///< sum of grain areas [m^2]
+  double mass = 0.0;        ///< [kg]
+};
+
+double top_of(const Grain& g) {
+  if (!g.shape) return g.centre.y();
+  if (g.shape->kind == dem::ShapeKind::disc) return g.centre.y() + g.shape->radius;
+  double top = -INFINITY;
+  for (const Vec2& v : world_outline(g)) top = std::max(top, v.y());
+  return top;
+}
+
+Domain domain_of(const mesh::TriangleMesh& m) {
+  // Boundary edges, oriented as in their triangle (counter-clockwise around the material).
+  std::map<std::pair<int, int>, int> count;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  Domain d;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (count[{std::min(a, b), std::max(a, b)}] == 1) d.edges.emplace_back(m.nodes[a], m.nodes[b]);
+    }
+  return d;
+}
+
+double mesh_area(const mesh::TriangleMesh& m) {
+  double a = 0;
+  for (const auto& t : m.triangles) a += 0.5 * dem::cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
+  return a;
+}
+
+// x extent of the domain along the horizontal line at height y (from its boundary edges).
+std::pair<double, double> x_range_at(const Domain& d, double y) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& [a, b] : d.edges) {
+    if (a.y() == y) lo = std::min(lo, a.x()), hi = std::max(hi, a.x());
+    if (b.y() == y) lo = std::min(lo, b.x()), hi = std::max(hi, b.x());
+    if ((a.y() - y) * (b.y() - y) < 0) {
+      const double x = a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
+      lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+  }
+  return {lo, hi};
+}
+
+// Mean and standard error of the values present (NaN marks "no data in this pile").
+struct Stat {
+  double mean = 0, stderr_ = 0;
+  int n = 0;
+};
+Stat stat_of(const std::vector<double>& v) {
+  Stat s;
+  double sum = 0;
+  for (double x : v)
+    if (!std::isnan(x)) sum += x, ++s.n;
+  if (s.n == 0) return s;
+  s.mean = sum / s.n;
+  if (s.n > 1) {
+    double ss = 0;
+    for (double x : v)
+      if (!std::isnan(x)) ss += (x - s.mean) * (x - s.mean);
+    s.stderr_ = std::sqrt(ss / (s.n - 1) / s.n);
+  }
+  return s;
+}
+
+// The sampled fields of all piles at a list of points: value[q][point] over piles.
+struct Samples {
+  std::vector<std::vector<Stat>> stats;  ///< [quantity][point]
+};
+
+std::string format_double(double v) {
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
+void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
+               bool with_stderr) {
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << m.nodes.size() << "\" NumberOfCells=\""
+      << m.triangles.size() << "\">\n";
+  out << (on_nodes ? "      <PointData>\n" : "      <CellData>\n");
+  const auto& qs = quantities();
+  auto array = [&](const std::string& name, auto value_of) {
+    out << "        <DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n         ";
+    const std::size_t n = samples.stats[0].size();
+    for (std::size_t i = 0; i < n; ++i) out << ' ' << format_double(value_of(i));
+    out << "\n        </DataArray>\n";
+  };
+  array("has_data", [&](std::size_t i) { return samples.stats[1][i].n > 0 ? 1.0 : 0.0; });
+  for (std::size_t q = 0; q < qs.size(); ++q) {
+    array(qs[q].name, [&](std::size_t i) { return samples.stats[q][i].mean; });
+    if (with_stderr) array(qs[q].name + "_stderr", [&](std::size_t i) { return samples.stats[q][i].stderr_; });
+  }
+  out << (on_nodes ? "      </PointData>\n" : "      </CellData>\n");
+  out << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const auto& p : m.nodes) out << "          " << format_double(p.x()) << ' ' << format_double(p.y()) << " 0\n";
+  out << "        </DataArray>\n      </Points>\n      <Cells>\n"
+      << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (const auto& t : m.triangles) out << "          " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  out << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n         ";
+  for (std::size_t c = 0; c < m.triangles.size(); ++c) out << ' ' << 3 * (c + 1);
+  out << "\n        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n         ";
+  for (std::size_t c = 0; c < m.triangles.size(); ++c) out << " 5";
+  out << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  write_text_atomically(path, out.str());
+}
+
+void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes,
+                     const std::vector<Vec2>& points, const Samples& samples, const nlohmann::json& info) {
+  write_atomically(path, [&](const std::string& tmp) {
+    H5File f = H5File::create(tmp);
+    f.set_attribute("/", "format", std::string("pilelab-fields"));
+    f.set_attribute("/", "format_version", std::int64_t(1));
+    for (const auto& [key, value] : info.items()) {
+      if (value.is_number_integer()) f.set_attribute("/", key, value.get<std::int64_t>());
+      else if (value.is_number()) f.set_attribute("/", key, value.get<double>());
+      else if (value.is_string()) f.set_attribute("/", key, value.get<std::string>());
+    }
+    std::vector<double> xy;
+    for (const auto& p : m.nodes) xy.push_back(p.x()), xy.push_back(p.y());
+    f.write("/mesh/nodes", xy, {m.nodes.size(), 2}, "m");
+    std::vector<std::int64_t> tri;
+    for (const auto& t : m.triangles) tri.insert(tri.end(), t.begin(), t.end());
+    f.write("/mesh/triangles", tri, {m.triangles.size(), 3});
+    std::vector<double> pxy;
+    for (const auto& p : points) pxy.push_back(p.x()), pxy.push_back(p.y());
+    f.write("/fields/points", pxy, {points.size(), 2}, "m");
+    f.set_attribute("/fields", "location", std::string(on_nodes ? "nodes" : "cells"));
+    const auto& qs = quantities();
+    std::vector<std::int64_t> has(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) has[i] = samples.stats[1][i].n;
+    f.write("/fields/piles_with_data", has);
+    for (std::size_t q = 0; q < qs.size(); ++q) {
+      std::vector<double> mean(points.size()), err(points.size());
+      std::vector<std::int64_t> count(points.size());
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        mean[i] = samples.stats[q][i].mean;
+        err[i] = samples.stats[q][i].stderr_;
+        count[i] = samples.stats[q][i].n;
+      }
+      f.write("/fields/" + qs[q].name, mean, {}, qs[q].unit);
+      f.write("/fields/" + qs[q].name + "_stderr", err, {}, qs[q].unit);
+      f.write("/fields/" + qs[q].name + "_count", count);
+    }
+  });
+}
+
+}  // namespace
+
+nlohmann::json run_coarse(const CoarseRunOptions& opt) {
+  const auto start = Clock::now();
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  const CoarseSettings settings =
+      read_coarse_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
+  reader.reject_unknown({"coarse"}, scene_tables());
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out_dir, ec);
+  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+
+  const mesh::TriangleMesh mesh = mesh::read_triangle_mesh(settings.mesh_file);
+  const Domain domain = domain_of(mesh);
+  const double area = mesh_area(mesh);
+
+  // The piles.
+  std::vector<Pile> piles;
+  bool strains = true;
+  for (const std::string& path : settings.dem_files) {
+    Pile pile;
+    pile.path = path;
+    const dem::DemFile file = dem::read_dem_file(path);
+    pile.packing = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.snapshot)));
+    if (file.has_snapshot(settings.strain_to))
+      pile.later = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.strain_to)));
+    else
+      strains = false;
+    for (const Grain& g : pile.packing->grains) {
+      pile.height = std::max(pile.height, top_of(g));
+      pile.grain_area += g.area;
+      pile.mass += g.mass;
+    }
+    piles.push_back(std::move(pile));
+  }
+  double mean_height = 0, mean_mass = 0, mean_grain_area = 0, grains = 0;
+  for (const Pile& p : piles) {
+    mean_height += p.height / piles.size();
+    mean_mass += p.mass / piles.size();
+    mean_grain_area += p.grain_area / piles.size();
+    grains += static_cast<double>(p.packing->grains.size()) / piles.size();
+  }
+  const double gravity = piles.front().packing->gravity.norm();
+  const double bulk_fraction = mean_grain_area / area;  // grain area over pile area
+  const double rho_bulk = mean_mass / area;              // [kg/m^2]
+  const double grain_size_area = mean_grain_area / grains;
+
+  // The averaging window.
+  for (Pile& p : piles) {
+    p.rve = std::make_unique<RveAverager>(*p.packing, settings.clip_volume ? domain : Domain{});
+    if (p.later) p.rve->set_displacements(*p.later);
+  }
+  const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
+  auto radius_for = [&](double count) { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); };
+
+  // RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count.
+  std::vector<Vec2> study_points;
+  for (std::size_t i = 0; i < settings.study_x_m.size(); ++i)
+    study_points.emplace_back(settings.study_x_m[i], settings.study_y_over_h[i] * mean_height);
+  if (study_points.empty()) {
+    const double y = 0.25 * mean_height;
+    const auto [lo, hi] = x_range_at(domain, y);
+    const double axis = 0.5 * (lo + hi);
+    study_points = {{axis, y}, {0.5 * (lo + axis), y}, {0.5 * (axis + hi), y}};
+  }
+  std::ostringstream study_csv;
+  study_csv << "point,x_m,y_m,radius_m,grain_count,quantity,value\n";
+  const std::vector<std::string> study_quantities = {"stress_xx", "stress_yy", "stress_xy", "fabric_xx", "fabric_yy",
+                                                     "fabric_xy", "coordination", "volume_fraction", "strain_xx",
+                                                     "strain_yy", "strain_xy"};
+  double chosen_count = 0;
+  nlohmann::json study_json = nlohmann::json::array();
+  for (std::size_t k = 0; k < study_points.size(); ++k) {
+    const Vec2 p = study_points[k];
+    std::vector<double> counts, radii;
+    std::vector<std::vector<double>> values(study_quantities.size());
+    for (double r = 0.75 * diameter;; r *= 1.12) {
+      const RveSample s = piles.front().rve->average(p, r);
+      counts.push_back(s.grain_count);
+      radii.push_back(r);
+      for (std::size_t q = 0; q < study_quantities.size(); ++q) {
+        const auto& table = quantities();
+        const auto it = std::find_if(table.begin(), table.end(), [&](const Quantity& x) { return x.name == study_quantities[q]; });
+        const auto v = it->value(s);
+        values[q].push_back(v ? *v : NAN);
+        if (v)
+          study_csv << k << ',' << p.x() << ',' << p.y() << ',' << r << ',' << s.grain_count << ',' << study_quantities[q]
+                    << ',' << format_double(*v) << '\n';
+      }
+      if (s.grain_count >= settings.study_max_grain_count || r > 4 * mean_height) break;
+    }
+    // Converged at size i when every later size stays within tolerance of it, measured
+    // against the largest size's magnitude (per tensor: the norm of its components).
+    const std::size_t last = counts.size() - 1;
+    std::size_t converged = last;
+    for (std::size_t i = 0; i <= last; ++i) {
+      bool ok = counts[i] >= 2;
+      for (std::size_t q = 0; q < study_quantities.size() && ok; ++q) {
+        const std::size_t group = q < 3 ? 0 : q < 6 ? 3 : q < 8 ? q : 8;  // tensors share a scale
+        double scale = 0;
+        for (std::size_t g = group; g < group + (group == 0 || group == 3 || group == 8 ? 3 : 1); ++g)
+          if (!std::isnan(values[g][last])) scale = std::max(scale, std::abs(values[g][last]));
+        if (std::isnan(values[q][last])) continue;
+        for (std::size_t j = i; j <= last && ok; ++j)
+          ok = !std::isnan(values[q][j]) && std::abs(values[q][j] - values[q][i]) <= settings.study_tolerance * scale;
+      }
+      if (ok) {
+        converged = i;
+        break;
+      }
+    }
+    chosen_count = std::max(chosen_count, counts[converged]);
+    study_json.push_back({{"x_m", p.x()}, {"y_m", p.y()}, {"converged_grain_count", counts[converged]},
+                          {"converged_radius_m", radii[converged]}, {"largest_grain_count", counts[last]}});
+  }
+  write_text_atomically((std::filesystem::path(opt.out_dir) / "rve_study.csv").string(), study_csv.str());
+
+  const double grain_count_target = settings.rve_grain_count > 0 ? settings.rve_grain_count : chosen_count;
+  const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : radius_for(grain_count_target);
+  const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : 2 * diameter;
+  if (settings.method != CoarseSettings::Method::rve)
+    for (Pile& p : piles) {
+      p.kernel = std::make_unique<KernelAverager>(
+          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width);
+      if (p.later) p.kernel->set_displacements(*p.later);
+    }
+  auto sample = [&](const Pile& p, const Vec2& x) {
+    return p.kernel ? p.kernel->average(x) : p.rve->average(x, radius);
+  };
+  auto sample_all = [&](const std::vector<Vec2>& points) {
+    const auto& qs = quantities();
+    Samples out;
+    out.stats.assign(qs.size(), std::vector<Stat>(points.size()));
+    std::vector<std::vector<std::vector<double>>> raw(qs.size(), std::vector<std::vector<double>>(points.size()));
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      for (const Pile& p : piles) {
+        const RveSample s = sample(p, points[i]);
+        for (std::size_t q = 0; q < qs.size(); ++q) {
+          const auto v = qs[q].value(s);
+          raw[q][i].push_back(v ? *v : NAN);
+        }
+      }
+      for (std::size_t q = 0; q < qs.size(); ++q) out.stats[q][i] = stat_of(raw[q][i]);
+    }
+    return out;
+  };
+
+  // Fields on the mesh.
+  const bool on_nodes = settings.location == CoarseSettings::Location::nodes;
+  std::vector<Vec2> points;
+  if (on_nodes) points = mesh.nodes;
+  else
+    for (const auto& t : mesh.triangles) points.push_back((mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0);
+  const auto fields_start = Clock::now();
+  const Samples fields = sample_all(points);
+  const double fields_seconds = std::chrono::duration<double>(Clock::now() - fields_start).count();
+
+  // Profiles along horizontal cuts, stresses over rho g h and compression positive.
+  std::ostringstream csv;
+  csv << "source,quantity,y_over_h,x_m,value,stderr\n";
+  const double stress_scale = rho_bulk * gravity * mean_height;
+  for (double f : settings.profile_heights) {
+    const double y = f * mean_height;
+    auto [lo, hi] = x_range_at(domain, y);
+    if (!(lo < hi)) continue;
+    std::vector<Vec2> cut;
+    for (int i = 0; i < settings.profile_points; ++i)
+      cut.emplace_back(lo + (hi - lo) * i / (settings.profile_points - 1), y);
+    const Samples s = sample_all(cut);
+    const auto& qs = quantities();
+    for (std::size_t q = 0; q < qs.size(); ++q) {
+      const bool stress = qs[q].is_stress || qs[q].name == "pressure";
+      const double scale = stress ? (qs[q].is_stress ? -1.0 : 1.0) / stress_scale : 1.0;
+      const std::string name = qs[q].is_stress ? "sigma_" + qs[q].name.substr(7) : qs[q].name;
+      for (std::size_t i = 0; i < cut.size(); ++i) {
+        if (s.stats[q][i].n == 0) continue;  // no data here: no row
+        csv << "dem," << name << ',' << f << ',' << format_double(cut[i].x()) << ','
+            << format_double(scale * s.stats[q][i].mean) << ',' << format_double(std::abs(scale) * s.stats[q][i].stderr_)
+            << '\n';
+      }
+    }
+  }
+  write_text_atomically((std::filesystem::path(opt.out_dir) / "profiles.csv").string(), csv.str());
+
+  // The virial identity (sum of grain stresses = gravity + wall terms - settling residual).
+  nlohmann::json identity = nlohmann::json::array();
+  for (const Pile& p : piles) {
+    Tensor lhs = Tensor::Zero(), wall = Tensor::Zero(), weight = Tensor::Zero(), residual = Tensor::Zero();
+    for (const Contact& c : p.packing->contacts) {
+      const Vec2 xa = c.point - p.packing->grains[c.a].centre;
+      lhs += c.force_on_a * xa.transpose();
+      if (c.b >= 0) lhs += -c.force_on_a * (c.point - p.packing->grains[c.b].centre).transpose();
+      else wall += c.force_on_a * c.point.transpose();
+    }
+    double scale = 0;  // the virial's natural size: sum_p m_p |g| |r_p|
+    for (const Grain& g : p.packing->grains) {
+      weight += g.mass * p.packing->gravity * g.centre.transpose();
+      residual += g.residual_force * g.centre.transpose();
+      scale += g.mass * p.packing->gravity.norm() * g.centre.norm();
+    }
+    identity.push_back({{"dem_file", p.path},
+                        {"virial_yy_N_m", lhs(1, 1)},
+                        {"gravity_yy_N_m", weight(1, 1)},
+                        {"wall_yy_N_m", wall(1, 1)},
+                        {"settling_residual_yy_N_m", residual(1, 1)},
+                        {"relative_mismatch", (lhs - wall - weight).norm() / scale},
+                        {"relative_mismatch_yy", std::abs(lhs(1, 1) - wall(1, 1) - weight(1, 1)) / std::abs(weight(1, 1))},
+                        {"relative_mismatch_with_residual", (lhs - wall - weight + residual).norm() / scale}});
+  }
+
+  const auto& qs = quantities();
+  int no_data = 0;
+  double mean_count = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (fields.stats[1][i].n == 0) ++no_data;
+    mean_count += fields.stats[0][i].mean / points.size();
+  }
+  (void)qs;
+  const char* methods[] = {"rve", "gaussian", "lucy"};
+  nlohmann::json info = {{"method", methods[static_cast<int>(settings.method)]},
+                         {"rve_radius_m", radius},
+                         {"kernel_width_m", settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width},
+                         {"piles", static_cast<std::int64_t>(piles.size())},
+                         {"snapshot", settings.snapshot},
+                         {"strain_to", strains ? settings.strain_to : std::string("")},
+                         {"height_m", mean_height},
+                         {"rho_bulk_kg_per_m2", rho_bulk},
+                         {"gravity_m_per_s2", gravity}};
+  write_fields_h5((std::filesystem::path(opt.out_dir) / "fields.h5").string(), mesh, on_nodes, points, fields, info);
+  write_vtu((std::filesystem::path(opt.out_dir) / "fields.vtu").string(), mesh, on_nodes, fields, piles.size() > 1);
+
+  nlohmann::json section = info;
+  section["dem_files"] = settings.dem_files;
+  section["mesh_file"] = settings.mesh_file;
+  section["location"] = on_nodes ? "nodes" : "cells";
+  section["rve_volume"] = settings.clip_volume ? "clipped" : "full";
+  section["rve_grain_count_target"] = grain_count_target;
+  section["mean_grain_count"] = mean_count;
+  section["points"] = points.size();
+  section["points_without_data"] = no_data;
+  section["strains"] = strains;
+  section["bulk_volume_fraction"] = bulk_fraction;
+  section["stress_scale_rho_g_h_N_per_m"] = stress_scale;
+  section["rve_study"] = {{"tolerance", settings.study_tolerance},
+                          {"chosen_grain_count", chosen_count},
+                          {"chosen_radius_m", radius_for(chosen_count)},
+                          {"points", study_json}};
+  section["virial_identity"] = identity;
+  section["fields_wall_time_s"] = fields_seconds;
+  section["wall_time_s"] = std::chrono::duration<double>(Clock::now() - start).count();
+  write_report_section((std::filesystem::path(opt.out_dir) / "report.json").string(), "coarse", section);
+  return section;
+}
+
+}  // namespace pilelab::coarse

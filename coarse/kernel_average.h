@@ -1,0 +1,49 @@
+#pragma once
+// Smooth coarse-graining with a kernel of width w (after Goldhirsch 2010 and Weinhart et al.
+// 2012), the scene's alternative to the paper's RVE discs. With phi a normalised 2D kernel:
+//
+//   density          rho(r)   = sum_p m_p phi(r - r_p)
+//   stress (static)  sigma(r) = sum_c f_c (x) b_c  int_0^1 phi(r - r_p - s b_c) ds
+//
+// where for a grain-grain contact f_c is the force on p and b_c = r_q - r_p (the branch
+// between the centres), and for a wall contact b_c = x_c - r_p. Because d/ds of the kernel
+// along the branch is its divergence, div sigma = sum_p phi(r - r_p) (sum of contact forces
+// on p) minus the wall forces spread at their contact points: in equilibrium, exactly
+// div sigma + rho g = (wall tractions), the momentum balance the RVE average only approaches.
+// Fabric, coordination and volume fraction are kernel-weighted grain sums; the strain is
+// Cambou's fit with each contact weighted by the kernel at its branch midpoint.
+#include "coarse/rve_average.h"
+
+namespace pilelab::coarse {
+
+enum class Kernel { gaussian, lucy };
+
+/// The normalised kernel at distance r: Gaussian exp(-r^2/w^2)/(pi w^2), cut at 3w; Lucy
+/// (5/(pi w^2)) (1 + 3r/w)(1 - r/w)^3 for r < w.
+double kernel_value(Kernel kernel, double r, double width);
+double kernel_support(Kernel kernel, double width);
+
+class KernelAverager {
+ public:
+  KernelAverager(const Packing& packing, Kernel kernel, double width);
+  void set_displacements(const Packing& later);
+  /// The fields at a point, in the RveSample layout (volume is 0: the kernel has no edge;
+  /// grain_count counts the grains within the kernel's support).
+  RveSample average(const Vec2& point) const;
+  double density(const Vec2& point) const;
+
+ private:
+  double phi(const Vec2& d) const { return kernel_value(kernel_, d.norm(), width_); }
+  const Packing& packing_;
+  Kernel kernel_;
+  double width_, support_;
+  double max_bounding_radius_ = 0.0;
+  GrainGrid grid_;
+  std::vector<std::vector<int>> contacts_of_;  ///< per grain: contacts where it is grain a
+  std::vector<Tensor> fabric_;
+  std::vector<int> contact_count_;
+  std::vector<Vec2> displacement_;
+  std::vector<char> has_displacement_;
+};
+
+}  // namespace pilelab::coarse

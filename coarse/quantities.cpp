@@ -1,0 +1,45 @@
+#include "coarse/quantities.h"
+
+namespace pilelab::coarse {
+
+namespace {
+using Value = std::optional<double>;
+Value if_data(const RveSample& s, double v) { return s.has_data() ? Value(v) : std::nullopt; }
+Value if_strain(const RveSample& s, double v) { return s.has_strain ? Value(v) : std::nullopt; }
+}  // namespace
+
+const std::vector<Quantity>& quantities() {
+  static const std::vector<Quantity> table = {
+      {"grain_count", "1", false, [](const RveSample& s) { return Value(s.grain_count); }},
+      {"stress_xx", "N/m", true, [](const RveSample& s) { return if_data(s, s.stress(0, 0)); }},
+      {"stress_yy", "N/m", true, [](const RveSample& s) { return if_data(s, s.stress(1, 1)); }},
+      {"stress_xy", "N/m", true, [](const RveSample& s) { return if_data(s, 0.5 * (s.stress(0, 1) + s.stress(1, 0))); }},
+      {"pressure", "N/m", false, [](const RveSample& s) { return if_data(s, -0.5 * s.stress.trace()); }},
+      {"stress_anisotropy", "1", false, [](const RveSample& s) { return if_data(s, summarise(s.stress, -1).anisotropy); }},
+      {"stress_orientation_deg", "deg", false,
+       [](const RveSample& s) { return if_data(s, summarise(s.stress, -1).orientation_deg); }},
+      {"fabric_xx", "1", false, [](const RveSample& s) { return if_data(s, s.fabric(0, 0)); }},
+      {"fabric_yy", "1", false, [](const RveSample& s) { return if_data(s, s.fabric(1, 1)); }},
+      {"fabric_xy", "1", false, [](const RveSample& s) { return if_data(s, s.fabric(0, 1)); }},
+      {"fabric_trace", "1", false, [](const RveSample& s) { return if_data(s, s.fabric.trace()); }},
+      {"fabric_anisotropy", "1", false, [](const RveSample& s) { return if_data(s, summarise(s.fabric).anisotropy); }},
+      {"fabric_orientation_deg", "deg", false,
+       [](const RveSample& s) { return if_data(s, summarise(s.fabric).orientation_deg); }},
+      {"coordination", "1", false, [](const RveSample& s) { return if_data(s, s.coordination); }},
+      {"volume_fraction", "1", false, [](const RveSample& s) { return if_data(s, s.volume_fraction); }},
+      {"strain_xx", "1", false, [](const RveSample& s) { return if_strain(s, s.strain()(0, 0)); }},
+      {"strain_yy", "1", false, [](const RveSample& s) { return if_strain(s, s.strain()(1, 1)); }},
+      {"strain_xy", "1", false, [](const RveSample& s) { return if_strain(s, s.strain()(0, 1)); }},
+      {"strain_rotation", "rad", false, [](const RveSample& s) { return if_strain(s, s.rotation()); }},
+      {"strain_fit_residual", "1", false, [](const RveSample& s) { return if_strain(s, s.strain_fit_residual); }},
+      {"strain_anisotropy", "1", false,
+       [](const RveSample& s) { return if_strain(s, summarise(s.strain(), 1, true).anisotropy); }},
+      {"strain_orientation_deg", "deg", false,
+       [](const RveSample& s) { return if_strain(s, summarise(s.strain(), 1, true).orientation_deg); }},
+      {"displacement_x", "m", false, [](const RveSample& s) { return if_strain(s, s.displacement.x()); }},
+      {"displacement_y", "m", false, [](const RveSample& s) { return if_strain(s, s.displacement.y()); }},
+  };
+  return table;
+}
+
+}  // namespace pilelab::coarse

@@ -1,0 +1,134 @@
+// coarse/ end to end on a real settled pile: dem -> mesh -> coarse, checked against statics.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "coarse/coarse_run.h"
+#include "common/error.h"
+#include "common/hdf5_file.h"
+#include "common/report.h"
+#include "dem/dem_file.h"
+#include "dem/pile_run.h"
+#include "mesh/mesh_run.h"
+
+namespace {
+
+class CoarseRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    out_ = (std::filesystem::temp_directory_path() / ("pilelab_coarse_run_" + std::to_string(::getpid()))).string();
+    std::filesystem::remove_all(out_);
+    const std::string scene = std::string(PILELAB_SOURCE_DIR) + "/tests/coarse/small_pile.toml";
+    pilelab::dem::DemRunOptions dem;
+    dem.scene_path = scene;
+    dem.out_dir = out_;
+    dem.quiet = true;
+    pilelab::dem::run_dem(dem);
+    pilelab::mesh::run_mesh({scene, out_});
+    report_ = pilelab::coarse::run_coarse({scene, out_});
+  }
+  static void TearDownTestSuite() { std::filesystem::remove_all(out_); }
+
+  // profiles.csv rows of one quantity at one height: x -> (value, stderr).
+  static std::map<double, double> profile(const std::string& quantity, double y_over_h) {
+    std::ifstream in(out_ + "/profiles.csv");
+    std::string line;
+    std::getline(in, line);
+    std::map<double, double> out;
+    while (std::getline(in, line)) {
+      std::stringstream s(line);
+      std::string source, q, y, x, v;
+      std::getline(s, source, ',');
+      std::getline(s, q, ',');
+      std::getline(s, y, ',');
+      std::getline(s, x, ',');
+      std::getline(s, v, ',');
+      if (q == quantity && std::abs(std::stod(y) - y_over_h) < 1e-12) out[std::stod(x)] = std::stod(v);
+    }
+    return out;
+  }
+  static std::string out_;
+  static nlohmann::json report_;
+};
+std::string CoarseRun::out_;
+nlohmann::json CoarseRun::report_;
+
+// Summed over all grains, eq. 12 is the virial: sum_p sum_c F (x) x = (wall forces (x) contact
+// points) + sum_p m_p g (x) r_p - sum_p (residual force) (x) r_p, an exact identity. In a
+// settled pile the residual is the small unbalanced force of the settling.
+TEST_F(CoarseRun, GrainStressesSumToTheVirialOfGravityAndWalls) {
+  const auto& id = report_["virial_identity"][0];
+  EXPECT_LT(id["relative_mismatch_with_residual"].get<double>(), 1e-12);
+  // Settled grains carry unbalanced forces far below their weights.
+  EXPECT_LT(id["relative_mismatch"].get<double>(), 0.01);
+  EXPECT_LT(id["relative_mismatch_yy"].get<double>(), 0.01);
+}
+
+// Vertical balance of the base: the pressure profile at y = 0 carries the weight W. The
+// half-disc RVE there averages sigma_yy over a layer whose weighted mean depth is 4R/(3 pi),
+// so it misses at most the weight of that layer, W * 8R/(3 pi h) for a triangular pile;
+// trapezoidal integration over 401 points and the pile's grain-scale roughness add a few %.
+TEST_F(CoarseRun, BasePressureCarriesTheWeight) {
+  const auto base = profile("sigma_yy", 0.0);
+  ASSERT_GT(base.size(), 100u);
+  double integral = 0;
+  for (auto it = std::next(base.begin()); it != base.end(); ++it) {
+    const auto prev = std::prev(it);
+    integral += 0.5 * (it->second + prev->second) * (it->first - prev->first);
+  }
+  const double rho_g_h = report_["stress_scale_rho_g_h_N_per_m"].get<double>();
+  const pilelab::dem::DemFile file = pilelab::dem::read_dem_file(out_ + "/dem.h5");
+  const pilelab::dem::Snapshot s = file.snapshot("settled");
+  double weight = 0;
+  for (auto b : s.body) weight += file.mass[b] * s.gravity;
+  const double h = report_["height_m"].get<double>(), R = report_["rve_radius_m"].get<double>();
+  const double ratio = integral * rho_g_h / weight;
+  EXPECT_GT(ratio, 1 - 8 * R / (3 * M_PI * h) - 0.05) << ratio;
+  EXPECT_LT(ratio, 1 + 0.05) << ratio;
+}
+
+// Lowering gravity unloads the pile: it expands and rises, so the mean vertical strain and
+// displacement are positive, and every field point with grains has data.
+TEST_F(CoarseRun, GravityReductionLiftsThePile) {
+  ASSERT_TRUE(report_["strains"].get<bool>());
+  pilelab::H5File f = pilelab::H5File::open_read(out_ + "/fields.h5");
+  const auto uy = f.read_doubles("/fields/displacement_y");
+  const auto eyy = f.read_doubles("/fields/strain_yy");
+  const auto n = f.read_ints("/fields/strain_yy_count");
+  double mean_uy = 0, mean_eyy = 0;
+  int k = 0;
+  for (std::size_t i = 0; i < uy.size(); ++i)
+    if (n[i] > 0) mean_uy += uy[i], mean_eyy += eyy[i], ++k;
+  ASSERT_GT(k, 0);
+  EXPECT_GT(mean_uy / k, 0.0);
+  EXPECT_GT(mean_eyy / k, 0.0);
+  for (double v : eyy) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST_F(CoarseRun, FilesAreSelfDescribing) {
+  pilelab::H5File f = pilelab::H5File::open_read(out_ + "/fields.h5");
+  EXPECT_EQ(f.attribute_string("/fields/stress_yy", "unit"), "N/m");
+  EXPECT_EQ(f.attribute_string("/fields", "location"), "nodes");
+  EXPECT_TRUE(std::filesystem::exists(out_ + "/fields.vtu"));
+  EXPECT_TRUE(std::filesystem::exists(out_ + "/rve_study.csv"));
+  EXPECT_GT(report_["rve_study"]["chosen_grain_count"].get<double>(), 0.0);
+}
+
+TEST(CoarseErrors, MissingMeshIsNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pilelab_coarse_err_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "s.toml") << "[coarse]\nmesh_file = \"nowhere.msh\"\n";
+  try {
+    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string()});
+    FAIL();
+  } catch (const pilelab::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nowhere.msh"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace

@@ -305,7 +305,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
 
   const double grain_count_target = settings.rve_grain_count > 0 ? settings.rve_grain_count : chosen_count;
   const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : radius_for(grain_count_target);
-  const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : 2 * diameter;
+  // Default kernel width: the RVE radius, so that both windows average over as many grains.
+  const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
   if (settings.method != CoarseSettings::Method::rve)
     for (Pile& p : piles) {
       p.kernel = std::make_unique<KernelAverager>(

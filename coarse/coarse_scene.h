@@ -18,7 +18,7 @@ struct CoarseSettings {
   double rve_radius_m = 0.0;                ///< > 0: this radius; 0: from rve_grain_count
   double rve_grain_count = 150.0;           ///< grains per RVE (paper: 100-200); 0: the study's choice
   bool clip_volume = true;                  ///< V = the part of the disc inside the pile
-  double kernel_width_m = 0.0;              ///< 0: two mean grain diameters
+  double kernel_width_m = 0.0;              ///< 0: the RVE radius
   std::vector<double> profile_heights = {0.0, 0.1, 0.2, 0.3, 0.5, 0.7};  ///< y / h
   int profile_points = 61;
   std::vector<double> study_x_m;            ///< RVE-size study points (empty: three defaults)

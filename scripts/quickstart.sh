@@ -4,4 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 ./build/apps/pilelab dem scenes/quick.toml -o out/quick
-echo "Results in out/quick/: report.json, dem.h5, dem.pvd (open in ParaView)"
+./build/apps/pilelab mesh scenes/quick.toml -o out/quick
+./build/apps/pilelab coarse scenes/quick.toml -o out/quick
+echo "Results in out/quick/: report.json, dem.h5, dem.pvd, pile.msh, fields.vtu (open in ParaView), profiles.csv"

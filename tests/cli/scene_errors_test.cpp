@@ -128,3 +128,32 @@ TEST_F(SceneErrors, PlateThinnerThanHalfAGrain) {
 TEST_F(SceneErrors, SettleMinimumAboveMaximum) {
   expect_error(edited("min_time_s = 0.05", "min_time_s = 0.5"), "dem.settle.min_time_s = 0.5 s exceeds dem.settle.max_time_s");
 }
+
+// The later stages check their own tables the same way.
+class StageSceneErrors : public CliTest {
+ protected:
+  void expect_error(const std::string& command, const std::string& scene_text, const std::string& message) {
+    const std::string scene = write_scene("scene.toml", scene_text);
+    const auto r = run(command + " " + scene + " -o " + path("out"));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << "expected '" << message << "' in: " << r.output;
+  }
+};
+
+TEST_F(StageSceneErrors, MeshAngleOutOfRange) {
+  expect_error("mesh", "[mesh]\nleft_angle_deg = 95\n", "mesh.left_angle_deg");
+}
+
+TEST_F(StageSceneErrors, MeshUnknownKey) {
+  expect_error("mesh", "[mesh]\nelement_size = 0.01\n", "unknown key 'mesh.element_size'");
+}
+
+TEST_F(StageSceneErrors, CoarseUnknownChoice) {
+  expect_error("coarse", "[coarse]\nmethod = \"voronoi\"\n", "coarse.method");
+}
+
+TEST_F(StageSceneErrors, CoarseMissingDemFile) {
+  const std::string mesh_scene = write_scene("mesh.toml", "[mesh]\nelement_size_m = 0.05\n");
+  ASSERT_EQ(run("mesh " + mesh_scene + " -o " + path("out")).exit_code, 0);
+  expect_error("coarse", "[coarse]\ndem_files = [\"missing.h5\"]\n", "missing.h5");
+}

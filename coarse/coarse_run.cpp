@@ -398,14 +398,20 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
                         {"relative_mismatch_with_residual", (lhs - wall - weight + residual).norm() / scale}});
   }
 
+  // Madadi's g2 = tr<F> / (v C) (paper eq. 23), averaged over the field points with data.
   const auto& qs = quantities();
-  int no_data = 0;
-  double mean_count = 0;
+  auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find_if(qs.begin(), qs.end(), [&](const Quantity& q) { return q.name == name; }) - qs.begin());
+  };
+  const std::size_t trace_q = column("fabric_trace"), nu_q = column("volume_fraction"), c_q = column("coordination");
+  int no_data = 0, g2_points = 0;
+  double mean_count = 0, g2 = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (fields.stats[1][i].n == 0) ++no_data;
     mean_count += fields.stats[0][i].mean / points.size();
+    const double vc = fields.stats[nu_q][i].mean * fields.stats[c_q][i].mean;
+    if (fields.stats[trace_q][i].n > 0 && vc > 0) g2 += fields.stats[trace_q][i].mean / vc, ++g2_points;
   }
-  (void)qs;
   const char* methods[] = {"rve", "gaussian", "lucy"};
   nlohmann::json info = {{"method", methods[static_cast<int>(settings.method)]},
                          {"rve_radius_m", radius},
@@ -429,6 +435,10 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   section["points"] = points.size();
   section["points_without_data"] = no_data;
   section["strains"] = strains;
+  section["fabric_g2"] = g2_points ? g2 / g2_points : 0.0;
+  int outside = 0;
+  for (const Pile& p : piles) outside = std::max(outside, p.rve->grains_outside_domain());
+  section["grains_outside_mesh"] = outside;
   section["bulk_volume_fraction"] = bulk_fraction;
   section["stress_scale_rho_g_h_N_per_m"] = stress_scale;
   section["rve_study"] = {{"tolerance", settings.study_tolerance},

@@ -16,6 +16,15 @@ double Domain::area_in_disc(const Vec2& centre, double radius) const {
   return std::max(area, 0.0);
 }
 
+bool Domain::contains(const Vec2& x) const {
+  if (edges.empty()) return true;
+  bool inside = false;
+  for (const auto& [a, b] : edges)
+    if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < a.x() + (x.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x()))
+      inside = !inside;
+  return inside;
+}
+
 RveAverager::RveAverager(const Packing& packing, Domain domain) : packing_(packing), domain_(std::move(domain)) {
   const std::size_t n = packing.grains.size();
   moment_.assign(n, Tensor::Zero());
@@ -33,6 +42,10 @@ RveAverager::RveAverager(const Packing& packing, Domain domain) : packing_(packi
     max_bounding_radius_ = std::max(max_bounding_radius_, bounding_radius_[p]);
   }
   mean_area_ = n ? area_sum / n : 0.0;
+  in_domain_.assign(n, 1);
+  if (!domain_.empty())
+    for (std::size_t p = 0; p < n; ++p)
+      if (!domain_.contains(centres[p])) in_domain_[p] = 0, ++outside_count_;
   // Each contact adds x (x) F to the grain(s) it touches (eq. 10 times V^p) and n (x) n to
   // their fabric (eq. 15).
   auto add = [&](int p, const Vec2& point, const Vec2& force) {
@@ -80,7 +93,7 @@ RveSample RveAverager::average(const Vec2& point, double radius) const {
     const Grain& g = packing_.grains[p];
     const double d = (g.centre - point).norm();
     const double rb = bounding_radius_[p];
-    if ((g.centre - point).squaredNorm() <= r2) inside.push_back(p);
+    if ((g.centre - point).squaredNorm() <= r2 && in_domain_[p]) inside.push_back(p);
     // Volume fraction from the outlines: whole grains, cut grains, or nothing.
     if (d + rb <= radius) {
       grain_area_inside += g.area;

@@ -2,7 +2,7 @@
 // Representative-volume-element averages of a static packing at a point (paper section 3-4).
 //
 // The RVE is the disc of radius R around the point. A grain belongs to it when its centre lies
-// inside (the paper's rule). V is the RVE's area, by default clipped to the pile domain (the
+// inside (the paper's rule) and, with a domain, inside the domain too. V is the RVE's area, by default clipped to the pile domain (the
 // part of the disc below the plate or above the free surface holds no material and no grain
 // centres; counting it would dilute every average near a boundary). Sign convention: tension
 // positive, as in continuum mechanics; the profiles flip it to compression positive.
@@ -33,6 +33,8 @@ struct Domain {
   bool empty() const { return edges.empty(); }
   /// Area of the disc (centre, radius) inside the domain.
   double area_in_disc(const Vec2& centre, double radius) const;
+  /// Whether a point lies inside (crossing number of a ray to +x).
+  bool contains(const Vec2& point) const;
 };
 
 struct RveSample {
@@ -67,6 +69,9 @@ class RveAverager {
   const Packing& packing() const { return packing_; }
   double mean_grain_area() const { return mean_area_; }
   double max_bounding_radius() const { return max_bounding_radius_; }
+  /// Grains whose centre lies outside the domain: left out of every average (the domain
+  /// does not cover the whole pile).
+  int grains_outside_domain() const { return outside_count_; }
 
  private:
   const Packing& packing_;
@@ -77,6 +82,8 @@ class RveAverager {
   std::vector<int> contacts_;         ///< per grain: contact count
   std::vector<std::vector<int>> partners_;  ///< per grain: grain-grain contact partners
   std::vector<double> bounding_radius_;
+  std::vector<char> in_domain_;
+  int outside_count_ = 0;
   std::vector<Vec2> displacement_;
   std::vector<char> has_displacement_;
   double mean_area_ = 0.0, max_bounding_radius_ = 0.0;

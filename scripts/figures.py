@@ -1,0 +1,244 @@
+#!/usr/bin/python3
+"""Figures of a pilelab run: reads OUT/ (dem.h5, profiles.csv, rve_study.csv, report.json) and
+writes OUT/figures/*.png. Run with Debian's interpreter: /usr/bin/python3 scripts/figures.py OUT
+
+Every figure is made only when its inputs exist, so the script works after any stage.
+"""
+import csv
+import json
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
+
+SOURCE_STYLE = {"dem": dict(color="k", marker="o", ms=3, lw=1.2),
+                "elastic": dict(color="tab:blue", lw=1.8),
+                "fpa": dict(color="tab:red", lw=1.8),
+                "elastic_fit": dict(color="tab:green", lw=1.8, ls="--")}
+LABEL = {"sigma_yy": r"$\sigma_{yy}/\rho g h$", "sigma_xx": r"$\sigma_{xx}/\rho g h$",
+         "sigma_xy": r"$\sigma_{xy}/\rho g h$", "stress_orientation_deg": "major stress axis [deg]",
+         "strain_orientation_deg": "major strain axis [deg]", "fabric_orientation_deg": "major fabric axis [deg]"}
+
+
+def save(fig, out, name):
+    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    path = os.path.join(out, "figures", name)
+    tmp = path + ".tmp.png"
+    fig.savefig(tmp, dpi=130, bbox_inches="tight")
+    os.replace(tmp, path)  # never a half-written figure
+    plt.close(fig)
+    print("wrote", path)
+
+
+def read_profiles(out):
+    path = os.path.join(out, "profiles.csv")
+    data = defaultdict(lambda: defaultdict(list))  # (source, quantity) -> y/h -> [(x, v, e)]
+    if not os.path.exists(path):
+        return data
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            err = float(r["stderr"]) if r["stderr"] not in ("", None) else 0.0
+            data[(r["source"], r["quantity"])][float(r["y_over_h"])].append((float(r["x_m"]), float(r["value"]), err))
+    return data
+
+
+def grain_polygons(f, snap):
+    """World-frame outlines and per-grain pressure of a snapshot (eq. 10 per grain)."""
+    offsets = f["bodies/vertex_offset"][:]
+    vertices = f["bodies/vertices"][:]
+    kind = f["bodies/kind"][:]
+    radius = f["bodies/radius"][:]
+    area = f["bodies/area"][:]
+    s = f["snapshots/" + snap]
+    body, pos, ang = s["body"][:], s["position"][:], s["angle"][:]
+    polys = []
+    for b, p, a in zip(body, pos, ang):
+        if kind[b] == 1:
+            t = np.linspace(0, 2 * np.pi, 17)[:-1]
+            local = np.c_[radius[b] * np.cos(t), radius[b] * np.sin(t)]
+        else:
+            local = vertices[offsets[b]:offsets[b + 1]]
+        c, sn = np.cos(a), np.sin(a)
+        polys.append(p + local @ np.array([[c, sn], [-sn, c]]))
+    # Per-grain stress moment sum x (x) F over its contacts; pressure = -tr/2 / area.
+    index = {int(b): i for i, b in enumerate(body)}
+    pair = s["contacts/pair"][:]
+    point = s["contacts/point"][:]
+    force = s["contacts/force"][:]  # on the second body of the pair
+    trace = np.zeros(len(body))
+    for (a, b), x, fb in zip(pair, point, force):
+        if b in index:
+            i = index[b]
+            trace[i] += np.dot(x - pos[i], fb)
+        if a in index:
+            i = index[a]
+            trace[i] += np.dot(x - pos[i], -fb)
+    pressure = -0.5 * trace / area[body]
+    return polys, pressure, s
+
+
+def pile_figures(out, report):
+    path = os.path.join(out, "dem.h5")
+    if not os.path.exists(path):
+        return
+    import h5py
+    with h5py.File(path, "r") as f:
+        snap = "settled" if "settled" in f["snapshots"] else list(f["snapshots"])[-1]
+        polys, pressure, s = grain_polygons(f, snap)
+        fig, ax = plt.subplots(figsize=(11, 4.2))
+        pc = PolyCollection(polys, array=pressure, cmap="viridis", edgecolors="none")
+        pc.set_clim(0, np.percentile(pressure, 98))
+        ax.add_collection(pc)
+        ax.autoscale_view()
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_title(f"grains coloured by pressure (snapshot '{snap}')")
+        fig.colorbar(pc, ax=ax, label="grain pressure [N/m]", shrink=0.8)
+        save(fig, out, "pile_pressure.png")
+
+        body = s["body"][:]
+        pos = s["position"][:]
+        index = {int(b): i for i, b in enumerate(body)}
+        pair = s["contacts/pair"][:]
+        fn = s["contacts/normal_force"][:]
+        point = s["contacts/point"][:]
+        segs, widths = [], []
+        mean_f = max(fn.mean(), 1e-30)
+        for (a, b), x, F in zip(pair, point, fn):
+            if a in index and b in index:
+                segs.append([pos[index[a]], pos[index[b]]])
+            elif b in index:
+                segs.append([pos[index[b]], x])
+            else:
+                continue
+            widths.append(0.4 * F / mean_f)
+        fig, ax = plt.subplots(figsize=(11, 4.2))
+        ax.add_collection(LineCollection(segs, linewidths=widths, colors="k"))
+        ax.autoscale_view()
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_title(f"contact force network (line width ~ normal force; mean {mean_f:.3g} N)")
+        save(fig, out, "force_network.png")
+
+
+def profile_figures(out, data):
+    sources = sorted({s for s, _ in data})
+    if not sources:
+        return
+    # Base pressure: sigma_yy / rho g h at the lowest cut, every source.
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for src in sources:
+        d = data.get((src, "sigma_yy"))
+        if not d:
+            continue
+        y0 = min(d)
+        x, v, e = map(np.array, zip(*sorted(d[y0])))
+        st = SOURCE_STYLE.get(src, {})
+        if src == "dem":
+            ax.errorbar(x, v, yerr=e if e.any() else None, label=f"{src} (y/h = {y0:g})", capsize=2, **st)
+        else:
+            ax.plot(x, v, label=f"{src} (y/h = {y0:g})", **st)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel(r"$\sigma_{yy} / \rho g h$ (compression > 0)")
+    ax.set_title("pressure under the pile")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    save(fig, out, "base_pressure.png")
+
+    # Height profiles: one panel per cut.
+    d = data.get(("dem", "sigma_yy")) or next(iter(data.values()))
+    heights = sorted(d)
+    fig, axes = plt.subplots(1, len(heights), figsize=(3.4 * len(heights), 3.4), sharey=True, squeeze=False)
+    for ax, h in zip(axes[0], heights):
+        for src in sources:
+            dd = data.get((src, "sigma_yy"), {}).get(h)
+            if not dd:
+                continue
+            x, v, e = map(np.array, zip(*sorted(dd)))
+            st = SOURCE_STYLE.get(src, {})
+            if src == "dem":
+                ax.errorbar(x, v, yerr=e if e.any() else None, label=src, capsize=2, **st)
+            else:
+                ax.plot(x, v, label=src, **st)
+        ax.set_title(f"y/h = {h:g}")
+        ax.set_xlabel("x [m]")
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel(r"$\sigma_{yy} / \rho g h$")
+    axes[0][0].legend()
+    save(fig, out, "sigma_yy_profiles.png")
+
+    # Orientations of stress, strain and fabric (the paper's Fig. 15) at the two lowest cuts.
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    for ax, h in zip(axes, heights[:2]):
+        for q, c in (("stress_orientation_deg", "tab:red"), ("strain_orientation_deg", "tab:blue"),
+                     ("fabric_orientation_deg", "tab:green")):
+            dd = data.get(("dem", q), {}).get(h)
+            if dd:
+                x, v, _ = map(np.array, zip(*sorted(dd)))
+                ax.plot(x, v, color=c, label=q.split("_")[0])
+        for src, st in (("fpa", "--"), ("elastic", ":")):
+            dd = data.get((src, "stress_orientation_deg"), {}).get(h)
+            if dd:
+                x, v, _ = map(np.array, zip(*sorted(dd)))
+                ax.plot(x, v, color="k", ls=st, label=f"{src} stress")
+        ax.axhline(90, color="0.7", lw=0.8)
+        ax.set_title(f"y/h = {h:g}")
+        ax.set_xlabel("x [m]")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("major axis from the horizontal [deg] (90 = vertical)")
+    axes[0].legend()
+    save(fig, out, "orientations.png")
+
+
+def rve_figure(out):
+    path = os.path.join(out, "rve_study.csv")
+    if not os.path.exists(path):
+        return
+    series = defaultdict(list)
+    where = {}
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            series[(int(r["point"]), r["quantity"])].append((int(r["grain_count"]), float(r["value"])))
+            where[int(r["point"])] = (float(r["x_m"]), float(r["y_m"]))
+    points = sorted({p for p, _ in series})
+    groups = [("stress [N/m]", ["stress_xx", "stress_yy", "stress_xy"]), ("fabric", ["fabric_xx", "fabric_yy", "fabric_xy"]),
+              ("strain", ["strain_xx", "strain_yy", "strain_xy"]), ("scalars", ["volume_fraction", "coordination"])]
+    fig, axes = plt.subplots(len(points), len(groups), figsize=(4 * len(groups), 3.2 * len(points)), squeeze=False,
+                             layout="constrained")
+    for i, p in enumerate(points):
+        for j, (title, qs) in enumerate(groups):
+            ax = axes[i][j]
+            for q in qs:
+                s = series.get((p, q))
+                if s:
+                    n, v = zip(*s)
+                    ax.plot(n, v, marker=".", label=q)
+            ax.set_xscale("log")
+            ax.set_xlabel("grains in the RVE")
+            ax.set_title(f"({where[p][0]:.3f} m, {where[p][1]:.3f} m): {title}", fontsize=9)
+            ax.legend(fontsize=7)
+            ax.grid(alpha=0.3)
+    save(fig, out, "rve_convergence.png")
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: /usr/bin/python3 scripts/figures.py OUT")
+    out = sys.argv[1]
+    report_path = os.path.join(out, "report.json")
+    report = json.load(open(report_path)) if os.path.exists(report_path) else {}
+    pile_figures(out, report)
+    profile_figures(out, read_profiles(out))
+    rve_figure(out)
+
+
+if __name__ == "__main__":
+    main()

@@ -6,4 +6,5 @@ bash scripts/setup.sh
 ./build/apps/pilelab dem scenes/quick.toml -o out/quick
 ./build/apps/pilelab mesh scenes/quick.toml -o out/quick
 ./build/apps/pilelab coarse scenes/quick.toml -o out/quick
-echo "Results in out/quick/: report.json, dem.h5, dem.pvd, pile.msh, fields.vtu (open in ParaView), profiles.csv"
+/usr/bin/python3 scripts/figures.py out/quick
+echo "Results in out/quick/: report.json, dem.h5, dem.pvd, pile.msh, fields.vtu (open in ParaView), profiles.csv, figures/*.png"

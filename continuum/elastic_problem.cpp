@@ -201,7 +201,7 @@ std::vector<PETScWrappers::MPI::Vector> ElasticProblem::rigid_body_modes() const
 
 void ElasticProblem::solve() {
   PETScWrappers::MPI::Vector x(owned_, comm_);
-  result_.solver = solve_spd(system_matrix_, x, system_rhs_, rigid_body_modes(), settings_.solver);
+  result_.solver = solve_spd(system_matrix_, x, system_rhs_, rigid_body_modes(), 2, settings_.solver, "elastic_");
   constraints_.distribute(x);
   solution_ = x;  // ghosted copy for evaluation and output
 }

@@ -147,7 +147,7 @@ void FpaProblem::assemble_system() {
 
 void FpaProblem::solve() {
   PETScWrappers::MPI::Vector x(owned_, comm_);
-  result_.solver = solve_spd(system_matrix_, x, system_rhs_, {}, settings_.solver);
+  result_.solver = solve_spd(system_matrix_, x, system_rhs_, {}, 2, settings_.solver, "fpa_");
   constraints_.distribute(x);
   solution_ = x;
 }

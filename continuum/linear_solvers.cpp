@@ -40,7 +40,7 @@ double relative_residual(const PETScWrappers::MPI::SparseMatrix& A, const PETScW
 
 SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::MPI::Vector& x,
                      const PETScWrappers::MPI::Vector& b, std::vector<PETScWrappers::MPI::Vector> near_null_space,
-                     const SolverSettings& settings) {
+                     unsigned block_size, const SolverSettings& settings, const std::string& options_prefix) {
   SolveStats stats;
   const MPI_Comm comm = A.get_mpi_communicator();
   if (settings.kind == SolverSettings::Kind::direct) {
@@ -67,6 +67,10 @@ SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::M
         "KSPSetTolerances");
   check(KSPSetInitialGuessNonzero(ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
   check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  // The unknowns of a support point are consecutive (FESystem numbers them together and
+  // parallel::shared keeps that order), so the matrix is made of block_size x block_size
+  // blocks: GAMG aggregates nodes instead of single dofs and keeps its coarse levels sparse.
+  if (block_size > 1) check(MatSetBlockSize(mat, block_size), "MatSetBlockSize");
   check(PCSetType(pc, PCGAMG), "PCSetType");
   MatNullSpace null_space = nullptr;
   if (!near_null_space.empty()) {
@@ -81,6 +85,9 @@ SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::M
   // a threshold drops weak couplings so that coarsening follows the strong ones.
   PetscReal threshold[1] = {0.02};
   check(PCGAMGSetThreshold(pc, threshold, 1), "PCGAMGSetThreshold");
+  // Expert tuning from the environment, e.g. PETSC_OPTIONS="-fpa_pc_type hypre" (docs/CONTINUUM.md).
+  check(KSPSetOptionsPrefix(ksp, options_prefix.c_str()), "KSPSetOptionsPrefix");
+  check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
   check(KSPSetUp(ksp), "KSPSetUp");
   check(KSPSolve(ksp, b, x), "KSPSolve");
   PetscInt its = 0;

@@ -3,6 +3,7 @@
 // conjugate gradients preconditioned with PETSc's algebraic multigrid (GAMG, smoothed
 // aggregation, given the near-null space of the operator when there is one), or MUMPS's
 // parallel sparse Cholesky for small problems.
+#include <string>
 #include <vector>
 
 #include <deal.II/lac/petsc_sparse_matrix.h>
@@ -19,9 +20,12 @@ struct SolveStats {
 
 /// Solves A x = b. near_null_space: vectors spanning the kernel of the unconstrained operator
 /// (for elasticity the rigid-body modes), handed to GAMG so that its coarse spaces represent
-/// them; may be empty. Throws std::runtime_error if the iteration does not converge.
+/// them; may be empty. block_size: unknowns per support point, numbered consecutively.
+/// options_prefix: PETSc options with this prefix (e.g. from PETSC_OPTIONS) override the
+/// defaults. Throws std::runtime_error if the iteration does not converge.
 SolveStats solve_spd(const dealii::PETScWrappers::MPI::SparseMatrix& A, dealii::PETScWrappers::MPI::Vector& x,
                      const dealii::PETScWrappers::MPI::Vector& b,
-                     std::vector<dealii::PETScWrappers::MPI::Vector> near_null_space, const SolverSettings& settings);
+                     std::vector<dealii::PETScWrappers::MPI::Vector> near_null_space, unsigned block_size,
+                     const SolverSettings& settings, const std::string& options_prefix);
 
 }  // namespace pilelab::continuum

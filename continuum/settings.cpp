@@ -53,11 +53,10 @@ void check_unknown(const toml::table& t, const std::string& prefix, const KeyLog
   }
 }
 
-SolverSettings read_solver(KeyLog& log, const std::string& table) {
+SolverSettings read_solver(KeyLog& log, const std::string& table, SolverSettings s) {
   SceneReader& r = log.reader();
-  SolverSettings s;
-  const std::string kind =
-      r.get_choice(log.key(table + ".solver"), "iterative", {"iterative", "direct"});
+  const std::string fallback = s.kind == SolverSettings::Kind::direct ? "direct" : "iterative";
+  const std::string kind = r.get_choice(log.key(table + ".solver"), fallback, {"iterative", "direct"});
   s.kind = kind == "direct" ? SolverSettings::Kind::direct : SolverSettings::Kind::iterative;
   s.relative_tolerance = r.get_double(log.key(table + ".solver_tolerance"), s.relative_tolerance,
                                       Range{0.0, 1e-2, true});
@@ -151,7 +150,7 @@ ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_
                : ElasticSettings::Base::rough;
   e.degree = static_cast<int>(r.get_int(log.key("continuum.elastic.degree"), e.degree, 1, 2));
   e.gravity_change = r.get_double(log.key("continuum.elastic.gravity_change"), e.gravity_change, Range{-1.0, 1.0, false});
-  e.solver = read_solver(log, "continuum.elastic");
+  e.solver = read_solver(log, "continuum.elastic", e.solver);
 
   // [continuum.fpa]
   FpaSettings& f = s.fpa_model;
@@ -167,7 +166,7 @@ ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_
                   ? FpaSettings::Surface::weak
                   : FpaSettings::Surface::strong;
   f.surface_weight = r.get_double(log.key("continuum.fpa.surface_weight"), f.surface_weight, Range::positive());
-  f.solver = read_solver(log, "continuum.fpa");
+  f.solver = read_solver(log, "continuum.fpa", f.solver);
 
   if (const toml::table* t = root["continuum"].as_table()) check_unknown(*t, "continuum", log, src);
   r.reject_unknown({}, scene_tables());  // names of the top-level tables

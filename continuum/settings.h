@@ -43,7 +43,10 @@ struct FpaSettings {
   /// the flanks to the least-squares functional.
   enum class Surface { strong, weak } surface = Surface::strong;
   double surface_weight = 10.0;
-  SolverSettings solver;
+  /// Direct by default: the least-squares matrix of a hyperbolic operator is strongly
+  /// anisotropic along the characteristics, which algebraic multigrid handles poorly
+  /// (docs/CONTINUUM.md has the iteration counts); MUMPS's Cholesky factorisation does not care.
+  SolverSettings solver{SolverSettings::Kind::direct};
 };
 
 struct ContinuumSettings {

@@ -1,0 +1,123 @@
+// Bad input to the continuum stage: each case is an InputError that names the file, the field
+// and what was expected (never a crash, a hang or a NaN further down).
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "common/error.h"
+#include "continuum/pile_domain.h"
+#include "continuum/settings.h"
+#include "mpi_environment.h"
+
+using namespace pilelab;
+using namespace pilelab::continuum;
+
+namespace {
+
+std::string error_of(const std::string& toml) {
+  try {
+    SceneReader r(toml, "scene.toml");
+    read_continuum_scene(r, ".");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("pilelab_continuum_input_" + name);
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+std::string mesh_error(const std::string& path) {
+  try {
+    auto tria = make_triangulation(MPI_COMM_WORLD);
+    read_pile_mesh(path, *tria);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A one-triangle mesh in MSH 2.2 (ASCII), the triangle's nodes in the given order and its
+// edge 1-2 in the physical group "BoundaryID:<id>".
+std::string one_triangle_msh(const std::string& nodes, int boundary_id) {
+  const std::string id = std::to_string(boundary_id);
+  return "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 " + id + " \"BoundaryID:" + id +
+         "\"\n2 100 \"MaterialID:0\"\n$EndPhysicalNames\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+         "$Elements\n2\n1 1 2 " + id + " 1 1 2\n2 2 2 100 1 " + nodes + "\n$EndElements\n";
+}
+
+}  // namespace
+
+TEST(ContinuumInput, DefaultsAreValid) {
+  SceneReader r("[continuum]\n", "scene.toml");
+  const ContinuumSettings s = read_continuum_scene(r, ".");
+  EXPECT_TRUE(s.elastic && s.fpa);
+  EXPECT_DOUBLE_EQ(s.fpa_model.left_repose_angle_deg, 28.0);
+  EXPECT_EQ(s.elastic_model.degree, 2);
+}
+
+TEST(ContinuumInput, PoissonRatioAtOrAboveOneHalfIsRefused) {
+  for (const char* nu : {"0.5", "0.6"}) {
+    const std::string e = error_of(std::string("[continuum.elastic]\npoisson_ratio = ") + nu + "\n");
+    EXPECT_NE(e.find("scene.toml"), std::string::npos) << e;
+    EXPECT_NE(e.find("continuum.elastic.poisson_ratio"), std::string::npos) << e;
+    EXPECT_NE(e.find("nu < 0.5"), std::string::npos) << e;
+  }
+  EXPECT_EQ(error_of("[continuum.elastic]\npoisson_ratio = 0.499\n"), "");
+}
+
+TEST(ContinuumInput, ReposeAngleOutsideZeroToFortyFiveIsRefused) {
+  for (const char* line : {"repose_angle_deg = 45.0", "repose_angle_deg = 0", "repose_angle_deg = -10",
+                           "left_repose_angle_deg = 50", "right_repose_angle_deg = 0.0"}) {
+    const std::string e = error_of(std::string("[continuum.fpa]\n") + line + "\n");
+    EXPECT_NE(e.find("continuum.fpa."), std::string::npos) << line << ": " << e;
+    EXPECT_NE(e.find("0 < angle of repose < 45"), std::string::npos) << e;
+  }
+  EXPECT_EQ(error_of("[continuum.fpa]\nleft_repose_angle_deg = 28\nright_repose_angle_deg = 21\n"), "");
+}
+
+TEST(ContinuumInput, UnknownKeysAndBadModelsAreRefused) {
+  EXPECT_NE(error_of("[continuum]\ndensity = 3\n").find("continuum.density"), std::string::npos);
+  EXPECT_NE(error_of("[continuum.elastic]\nyoung = 3\n").find("continuum.elastic.young"), std::string::npos);
+  EXPECT_NE(error_of("[continuum.plastic]\nx = 1\n").find("continuum.plastic"), std::string::npos);
+  EXPECT_NE(error_of("[continuum]\nmodels = [\"elastic\", \"mohr\"]\n").find("continuum.models"), std::string::npos);
+  EXPECT_NE(error_of("[continuum.elastic]\nplane = \"axisymmetric\"\n").find("continuum.elastic.plane"),
+            std::string::npos);
+  EXPECT_NE(error_of("[continuum.elastic]\ndegree = 3\n").find("continuum.elastic.degree"), std::string::npos);
+}
+
+TEST(ContinuumInput, MissingMeshNamesTheFile) {
+  const std::string e = mesh_error("/nonexistent/pile.msh");
+  EXPECT_NE(e.find("/nonexistent/pile.msh"), std::string::npos) << e;
+}
+
+TEST(ContinuumInput, CorruptMeshNamesTheFile) {
+  const std::string path = temp_file("corrupt.msh", "$MeshFormat\nthis is not a mesh\n");
+  const std::string e = mesh_error(path);
+  EXPECT_NE(e.find(path), std::string::npos) << e;
+  std::filesystem::remove(path);
+}
+
+TEST(ContinuumInput, InvertedMeshIsRefused) {
+  const std::string good = temp_file("good.msh", one_triangle_msh("1 2 3", 1));
+  EXPECT_EQ(mesh_error(good), "");
+  const std::string inverted = temp_file("inverted.msh", one_triangle_msh("1 3 2", 1));
+  const std::string e = mesh_error(inverted);
+  EXPECT_NE(e.find(inverted), std::string::npos) << e;
+  EXPECT_NE(e.find("inverted"), std::string::npos) << e;
+  std::filesystem::remove(good);
+  std::filesystem::remove(inverted);
+}
+
+TEST(ContinuumInput, MeshWithoutBaseIsRefused) {
+  const std::string path = temp_file("nobase.msh", one_triangle_msh("1 2 3", 2));
+  const std::string e = mesh_error(path);
+  EXPECT_NE(e.find(path), std::string::npos) << e;
+  EXPECT_NE(e.find("BoundaryID:1"), std::string::npos) << e;
+  std::filesystem::remove(path);
+}

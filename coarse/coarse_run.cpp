@@ -15,6 +15,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/hdf5_file.h"
+#include "common/profiles_csv.h"
 #include "common/report.h"
 #include "common/scene_tables.h"
 #include "mesh/pile_mesh.h"
@@ -346,16 +347,14 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const double fields_seconds = std::chrono::duration<double>(Clock::now() - fields_start).count();
 
   // Profiles along horizontal cuts, stresses over rho g h and compression positive.
-  std::ostringstream csv;
-  csv << "source,quantity,y_over_h,x_m,value,stderr\n";
+  std::vector<ProfileValue> rows;
   const double stress_scale = rho_bulk * gravity * mean_height;
   for (double f : settings.profile_heights) {
     const double y = f * mean_height;
     auto [lo, hi] = x_range_at(domain, y);
     if (!(lo < hi)) continue;
     std::vector<Vec2> cut;
-    for (int i = 0; i < settings.profile_points; ++i)
-      cut.emplace_back(lo + (hi - lo) * i / (settings.profile_points - 1), y);
+    for (double x : profile_points(lo, hi, settings.profile_points)) cut.emplace_back(x, y);
     const Samples s = sample_all(cut);
     const auto& qs = quantities();
     for (std::size_t q = 0; q < qs.size(); ++q) {
@@ -364,13 +363,11 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       const std::string name = qs[q].is_stress ? "sigma_" + qs[q].name.substr(7) : qs[q].name;
       for (std::size_t i = 0; i < cut.size(); ++i) {
         if (s.stats[q][i].n == 0) continue;  // no data here: no row
-        csv << "dem," << name << ',' << f << ',' << format_double(cut[i].x()) << ','
-            << format_double(scale * s.stats[q][i].mean) << ',' << format_double(std::abs(scale) * s.stats[q][i].stderr_)
-            << '\n';
+        rows.push_back({"dem", name, f, cut[i].x(), scale * s.stats[q][i].mean, std::abs(scale) * s.stats[q][i].stderr_, true});
       }
     }
   }
-  write_text_atomically((std::filesystem::path(opt.out_dir) / "profiles.csv").string(), csv.str());
+  write_profile_values((std::filesystem::path(opt.out_dir) / "profiles.csv").string(), rows);
 
   // The virial identity (sum of grain stresses = gravity + wall terms - settling residual).
   nlohmann::json identity = nlohmann::json::array();

@@ -30,8 +30,8 @@ using Clock = std::chrono::steady_clock;
 struct Pile {
   std::string path;
   std::unique_ptr<Packing> packing, later;
-  std::unique_ptr<RveAverager> rve;
-  std::unique_ptr<KernelAverager> kernel;
+  std::unique_ptr<RveAverager> rve, rve_later;        ///< rve_later: stress at the later snapshot
+  std::unique_ptr<KernelAverager> kernel, kernel_later;
   double height = 0.0;      ///< top of the highest grain [m]
   double grain_area = 0.0;  ///< sum of grain areas [m^2]
   double mass = 0.0;        ///< [kg]
@@ -237,7 +237,10 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   // The averaging window.
   for (Pile& p : piles) {
     p.rve = std::make_unique<RveAverager>(*p.packing, settings.clip_volume ? domain : Domain{});
-    if (p.later) p.rve->set_displacements(*p.later);
+    if (p.later) {
+      p.rve->set_displacements(*p.later);
+      p.rve_later = std::make_unique<RveAverager>(*p.later, settings.clip_volume ? domain : Domain{});
+    }
   }
   const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
   auto radius_for = [&](double count) { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); };
@@ -312,10 +315,23 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     for (Pile& p : piles) {
       p.kernel = std::make_unique<KernelAverager>(
           *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width);
-      if (p.later) p.kernel->set_displacements(*p.later);
+      if (p.later) {
+        p.kernel->set_displacements(*p.later);
+        p.kernel_later = std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width);
+      }
     }
+  // The fields at x, with the stress change to the later snapshot in the same window (the
+  // increment that goes with the strain).
   auto sample = [&](const Pile& p, const Vec2& x) {
-    return p.kernel ? p.kernel->average(x) : p.rve->average(x, radius);
+    RveSample s = p.kernel ? p.kernel->average(x) : p.rve->average(x, radius);
+    if (s.has_data() && (p.kernel_later || p.rve_later)) {
+      const RveSample later = p.kernel ? p.kernel_later->average(x) : p.rve_later->average(x, radius);
+      if (later.has_data()) {
+        s.stress_change = later.stress - s.stress;
+        s.has_stress_change = true;
+      }
+    }
+    return s;
   };
   auto sample_all = [&](const std::vector<Vec2>& points) {
     const auto& qs = quantities();

@@ -31,6 +31,7 @@ class KernelAverager {
   /// grain_count counts the grains within the kernel's support).
   RveSample average(const Vec2& point) const;
   double density(const Vec2& point) const;
+  Kernel kernel() const { return kernel_; }
 
  private:
   double phi(const Vec2& d) const { return kernel_value(kernel_, d.norm(), width_); }

@@ -36,6 +36,13 @@ const std::vector<Quantity>& quantities() {
        [](const RveSample& s) { return if_strain(s, summarise(s.strain(), 1, true).anisotropy); }},
       {"strain_orientation_deg", "deg", false,
        [](const RveSample& s) { return if_strain(s, summarise(s.strain(), 1, true).orientation_deg); }},
+      {"stress_change_xx", "N/m", false,
+       [](const RveSample& s) { return s.has_stress_change ? Value(s.stress_change(0, 0)) : std::nullopt; }},
+      {"stress_change_yy", "N/m", false,
+       [](const RveSample& s) { return s.has_stress_change ? Value(s.stress_change(1, 1)) : std::nullopt; }},
+      {"stress_change_xy", "N/m", false, [](const RveSample& s) {
+         return s.has_stress_change ? Value(0.5 * (s.stress_change(0, 1) + s.stress_change(1, 0))) : std::nullopt;
+       }},
       {"displacement_x", "m", false, [](const RveSample& s) { return if_strain(s, s.displacement.x()); }},
       {"displacement_y", "m", false, [](const RveSample& s) { return if_strain(s, s.displacement.y()); }},
   };

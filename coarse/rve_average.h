@@ -48,6 +48,9 @@ struct RveSample {
   bool has_strain = false;
   int strain_contacts = 0;
   dem::Vec2 displacement{0, 0};  ///< mean grain-centre displacement of the grains inside [m]
+  // Incremental stress (later snapshot minus this one, same window), for stress-strain fits.
+  bool has_stress_change = false;
+  Tensor stress_change = Tensor::Zero();
   Tensor displacement_gradient = Tensor::Zero();  ///< H_ij = du_i/dx_j
   double strain_fit_residual = 0.0;  ///< sqrt(sum |du - H l|^2 / sum |du|^2): 0 = affine
   bool has_data() const { return grain_count > 0; }

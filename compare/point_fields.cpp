@@ -1,0 +1,131 @@
+#include "compare/point_fields.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "common/error.h"
+#include "common/hdf5_file.h"
+
+namespace pilelab::compare {
+
+const std::vector<double>& PointFields::at(const std::string& name) const {
+  const auto it = values.find(name);
+  if (it == values.end()) throw InputError(source + ": no field '" + name + "'");
+  return it->second;
+}
+
+void PointFields::set(const std::string& name, std::vector<double> v, std::vector<char> ok) {
+  values[name] = std::move(v);
+  valid[name] = std::move(ok);
+}
+
+PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* on_nodes) {
+  H5File f = H5File::open_read(path);
+  std::string format;
+  try {
+    format = f.attribute_string("/", "format");
+  } catch (const InputError&) {
+  }
+  if (format != "pilelab-fields")
+    throw InputError(path + ": not a pilelab fields file (root attribute format = \"pilelab-fields\" expected)");
+  PointFields out;
+  out.source = path;
+  std::vector<std::uint64_t> dims;
+  const auto xy = f.read_doubles("/fields/points", &dims);
+  if (dims.size() != 2 || dims[1] != 2) throw InputError(path + ": /fields/points must have shape (k, 2)");
+  for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
+  for (const std::string& name : f.list("/fields")) {
+    if (name == "points" || name == "piles_with_data") continue;
+    if (name.size() > 6 && (name.rfind("_count") == name.size() - 6 || name.rfind("_stderr") == name.size() - 7)) continue;
+    auto values = f.read_doubles("/fields/" + name);
+    const auto count = f.read_ints("/fields/" + name + "_count");
+    if (values.size() != out.points.size() || count.size() != out.points.size())
+      throw InputError(path + ": /fields/" + name + " does not have one value per point");
+    std::vector<char> ok(count.size());
+    for (std::size_t i = 0; i < count.size(); ++i) ok[i] = count[i] > 0 && std::isfinite(values[i]);
+    out.set(name, std::move(values), std::move(ok));
+  }
+  if (mesh) {
+    const auto nodes = f.read_doubles("/mesh/nodes", &dims);
+    mesh->nodes.clear();
+    for (std::size_t i = 0; i < dims[0]; ++i) mesh->nodes.emplace_back(nodes[2 * i], nodes[2 * i + 1]);
+    const auto tri = f.read_ints("/mesh/triangles", &dims);
+    mesh->triangles.clear();
+    for (std::size_t t = 0; t < dims[0]; ++t)
+      mesh->triangles.push_back({static_cast<int>(tri[3 * t]), static_cast<int>(tri[3 * t + 1]), static_cast<int>(tri[3 * t + 2])});
+  }
+  if (on_nodes) *on_nodes = f.attribute_string("/fields", "location") == "nodes";
+  return out;
+}
+
+std::vector<std::string> model_names(const std::string& path) {
+  H5File f = H5File::open_read(path);
+  return f.list("/");
+}
+
+PointFields read_model_fields(const std::string& path, const std::string& model) {
+  H5File f = H5File::open_read(path);
+  const std::string g = "/" + model;
+  if (!f.exists(g)) throw InputError(path + ": no model '" + model + "' (group " + g + ")");
+  PointFields out;
+  out.source = path + " (" + model + ")";
+  std::vector<std::uint64_t> dims;
+  const auto xy = f.read_doubles(g + "/points", &dims);
+  if (dims.size() != 2 || dims[1] != 2) throw InputError(path + ": " + g + "/points must have shape (k, 2)");
+  for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
+  for (const std::string& name : f.list(g)) {
+    if (name == "points") continue;
+    auto values = f.read_doubles(g + "/" + name);
+    if (values.size() != out.points.size())
+      throw InputError(path + ": " + g + "/" + name + " does not have one value per point");
+    std::vector<char> ok(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) ok[i] = std::isfinite(values[i]);
+    out.set(name, std::move(values), std::move(ok));
+  }
+  return out;
+}
+
+std::vector<int> match_points(const std::vector<Vec2>& from, const std::vector<Vec2>& to, double tol) {
+  // Hash the source points on a grid of cell tol*4; look up the 3x3 neighbourhood.
+  const double cell = std::max(tol * 4, 1e-300);
+  auto key = [&](long i, long j) { return i * 73856093L ^ j * 19349663L; };
+  std::unordered_multimap<long, int> grid;
+  for (std::size_t k = 0; k < from.size(); ++k)
+    grid.emplace(key(std::lround(from[k].x() / cell), std::lround(from[k].y() / cell)), static_cast<int>(k));
+  std::vector<int> index(to.size(), -1);
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    const long i0 = std::lround(to[k].x() / cell), j0 = std::lround(to[k].y() / cell);
+    double best = tol;
+    for (long i = i0 - 1; i <= i0 + 1; ++i)
+      for (long j = j0 - 1; j <= j0 + 1; ++j) {
+        const auto range = grid.equal_range(key(i, j));
+        for (auto it = range.first; it != range.second; ++it) {
+          const double d = (from[it->second] - to[k]).norm();
+          if (d <= best) best = d, index[k] = it->second;
+        }
+      }
+  }
+  return index;
+}
+
+PointFields reindex(const PointFields& from, const std::vector<int>& index, std::size_t size) {
+  PointFields out;
+  out.source = from.source;
+  out.points.resize(size);
+  for (const auto& [name, values] : from.values) {
+    std::vector<double> v(size, 0.0);
+    std::vector<char> ok(size, 0);
+    for (std::size_t k = 0; k < size; ++k)
+      if (index[k] >= 0) {
+        v[k] = values[index[k]];
+        ok[k] = from.valid.at(name)[index[k]];
+      }
+    out.set(name, std::move(v), std::move(ok));
+  }
+  for (std::size_t k = 0; k < size; ++k)
+    if (index[k] >= 0) out.points[k] = from.points[index[k]];
+  return out;
+}
+
+}  // namespace pilelab::compare

@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "common/hdf5_file.h"
 #include "common/profiles_csv.h"
+#include "common/triangle_vtu.h"
 #include "common/report.h"
 #include "common/scene_tables.h"
 #include "mesh/pile_mesh.h"
@@ -116,35 +117,23 @@ std::string format_double(double v) {
 
 void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
                bool with_stderr) {
-  std::ostringstream out;
-  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << m.nodes.size() << "\" NumberOfCells=\""
-      << m.triangles.size() << "\">\n";
-  out << (on_nodes ? "      <PointData>\n" : "      <CellData>\n");
-  const auto& qs = quantities();
-  auto array = [&](const std::string& name, auto value_of) {
-    out << "        <DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n         ";
-    const std::size_t n = samples.stats[0].size();
-    for (std::size_t i = 0; i < n; ++i) out << ' ' << format_double(value_of(i));
-    out << "\n        </DataArray>\n";
+  std::vector<VtuField> fields;
+  const std::size_t n = samples.stats[0].size();
+  auto add = [&](const std::string& name, auto value_of) {
+    VtuField f{name, std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i) f.values[i] = value_of(i);
+    fields.push_back(std::move(f));
   };
-  array("has_data", [&](std::size_t i) { return samples.stats[1][i].n > 0 ? 1.0 : 0.0; });
+  const auto& qs = quantities();
+  add("has_data", [&](std::size_t i) { return samples.stats[1][i].n > 0 ? 1.0 : 0.0; });
   for (std::size_t q = 0; q < qs.size(); ++q) {
-    array(qs[q].name, [&](std::size_t i) { return samples.stats[q][i].mean; });
-    if (with_stderr) array(qs[q].name + "_stderr", [&](std::size_t i) { return samples.stats[q][i].stderr_; });
+    add(qs[q].name, [&](std::size_t i) { return samples.stats[q][i].mean; });
+    if (with_stderr) add(qs[q].name + "_stderr", [&](std::size_t i) { return samples.stats[q][i].stderr_; });
   }
-  out << (on_nodes ? "      </PointData>\n" : "      </CellData>\n");
-  out << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-  for (const auto& p : m.nodes) out << "          " << format_double(p.x()) << ' ' << format_double(p.y()) << " 0\n";
-  out << "        </DataArray>\n      </Points>\n      <Cells>\n"
-      << "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& t : m.triangles) out << "          " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-  out << "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n         ";
-  for (std::size_t c = 0; c < m.triangles.size(); ++c) out << ' ' << 3 * (c + 1);
-  out << "\n        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n         ";
-  for (std::size_t c = 0; c < m.triangles.size(); ++c) out << " 5";
-  out << "\n        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  write_text_atomically(path, out.str());
+  std::vector<std::array<double, 2>> nodes;
+  for (const auto& p : m.nodes) nodes.push_back({p.x(), p.y()});
+  if (on_nodes) write_triangle_vtu(path, nodes, m.triangles, fields);
+  else write_triangle_vtu(path, nodes, m.triangles, {}, fields);
 }
 
 void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes,

@@ -1,0 +1,20 @@
+#pragma once
+// A triangulation with named scalar fields as a VTK XML unstructured grid (.vtu, ASCII), for
+// ParaView and meshio. Written atomically.
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pilelab {
+
+struct VtuField {
+  std::string name;
+  std::vector<double> values;  ///< one per node (point data) or per triangle (cell data)
+};
+
+void write_triangle_vtu(const std::string& path, const std::vector<std::array<double, 2>>& nodes,
+                        const std::vector<std::array<int, 3>>& triangles, const std::vector<VtuField>& point_data,
+                        const std::vector<VtuField>& cell_data = {});
+
+}  // namespace pilelab

@@ -8,6 +8,8 @@ namespace pilelab::app {
 void add_dem_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);
 void add_coarse_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
+void add_fit_command(CLI::App& app);
 #ifdef PILELAB_WITH_CONTINUUM
 void add_solve_command(CLI::App& app);
 #endif

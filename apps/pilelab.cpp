@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   pilelab::app::add_dem_command(app);
   pilelab::app::add_mesh_command(app);
   pilelab::app::add_coarse_command(app);
+  pilelab::app::add_compare_command(app);
+  pilelab::app::add_fit_command(app);
 #ifdef PILELAB_WITH_CONTINUUM
   pilelab::app::add_solve_command(app);
 #endif

@@ -78,7 +78,8 @@ FitResult fit_once(const std::vector<FitSample>& s, FitModel model) {
   double n_best = 0;
   if (model == FitModel::pressure_dependent) {
     double best = INFINITY;
-    for (double n = 0.0; n <= 1.5 + 1e-12; n += 0.01) {
+    for (int step = 0; step <= 150; ++step) {  // n = 0, 0.01, ..., 1.5
+      const double n = 0.01 * step;
       design(s, model, n, p_mean, A, b);
       double rss;
       Eigen::VectorXd xn;

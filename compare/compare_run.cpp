@@ -1,0 +1,315 @@
+#include "compare/compare_run.h"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "common/error.h"
+#include "common/hdf5_file.h"
+#include "common/profiles_csv.h"
+#include "common/report.h"
+#include "common/scene_reader.h"
+#include "common/scene_tables.h"
+#include "common/triangle_vtu.h"
+#include "compare/field_norms.h"
+#include "compare/stress_strain_fit.h"
+
+namespace pilelab::compare {
+
+namespace {
+
+std::string in_dir(const std::string& dir, const std::string& file) { return (std::filesystem::path(dir) / file).string(); }
+
+std::vector<char> both(const std::vector<char>& a, const std::vector<char>& b) {
+  std::vector<char> out(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) out[i] = a[i] && b[i];
+  return out;
+}
+
+// Orientation of the major compressive axis of (xx, yy, xy), tension positive, in [0, 180)
+// degrees from the horizontal: the convention of coarse/.
+double compressive_axis_deg(double xx, double yy, double xy) {
+  Tensor t;
+  t << -xx, -xy, -xy, -yy;
+  Eigen::SelfAdjointEigenSolver<Tensor> eig(t);
+  const auto v = eig.eigenvectors().col(1);
+  double a = std::atan2(v.y(), v.x()) * 180.0 / M_PI;
+  if (a < 0) a += 180;
+  if (a >= 180) a -= 180;
+  return a;
+}
+
+// Points thinned greedily to about `spacing` apart (a regular subsample of correlated RVEs).
+std::vector<std::size_t> thin(const std::vector<Vec2>& points, const std::vector<char>& ok, double spacing) {
+  std::vector<std::size_t> kept;
+  std::map<std::pair<long, long>, std::vector<std::size_t>> grid;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!ok[i]) continue;
+    const long cx = std::lround(std::floor(points[i].x() / spacing)), cy = std::lround(std::floor(points[i].y() / spacing));
+    bool near = false;
+    for (long a = cx - 1; a <= cx + 1 && !near; ++a)
+      for (long b = cy - 1; b <= cy + 1 && !near; ++b) {
+        auto it = grid.find({a, b});
+        if (it == grid.end()) continue;
+        for (std::size_t j : it->second) near = near || (points[j] - points[i]).norm() < spacing;
+      }
+    if (near) continue;
+    kept.push_back(i);
+    grid[{cx, cy}].push_back(i);
+  }
+  return kept;
+}
+
+nlohmann::json fit_section(const PointFields& dem, double spacing, int resamples, int folds, unsigned seed,
+                           std::vector<FitSample>* samples_out, std::vector<FitResult>* fits_out) {
+  const char* needed[] = {"stress_change_xx", "stress_change_yy", "stress_change_xy", "strain_xx", "strain_yy",
+                          "strain_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure"};
+  for (const char* q : needed)
+    if (!dem.has(q))
+      throw InputError(dem.source + ": the fit needs the field '" + std::string(q) +
+                       "' (run coarse with a `relaxed` snapshot for strains and stress changes)");
+  std::vector<char> ok(dem.points.size(), 1);
+  for (const char* q : needed) ok = both(ok, dem.valid.at(q));
+  const std::vector<std::size_t> kept = thin(dem.points, ok, spacing);
+  std::vector<FitSample> samples;
+  for (std::size_t i : kept) {
+    FitSample s;
+    s.point = dem.points[i];
+    s.stress_change << dem.at("stress_change_xx")[i], dem.at("stress_change_xy")[i], dem.at("stress_change_xy")[i],
+        dem.at("stress_change_yy")[i];
+    s.strain << dem.at("strain_xx")[i], dem.at("strain_xy")[i], dem.at("strain_xy")[i], dem.at("strain_yy")[i];
+    s.fabric << dem.at("fabric_xx")[i], dem.at("fabric_xy")[i], dem.at("fabric_xy")[i], dem.at("fabric_yy")[i];
+    s.pressure = dem.at("pressure")[i];
+    samples.push_back(s);
+  }
+  nlohmann::json section = {{"samples", samples.size()}, {"sample_spacing_m", spacing}, {"bootstrap_resamples", resamples},
+                            {"folds", folds}};
+  nlohmann::json models = nlohmann::json::object();
+  std::string best;
+  double best_aic = INFINITY;
+  for (FitModel m : {FitModel::isotropic, FitModel::orthotropic_fabric, FitModel::pressure_dependent}) {
+    const FitResult f = fit_with_uncertainty(samples, m, resamples, seed, folds);
+    if (fits_out) fits_out->push_back(f);
+    if (!f.ok) continue;
+    nlohmann::json j = {{"r2", f.r2}, {"rss", f.rss}, {"aic", f.aic}, {"cv_rms_N_per_m", f.cv_rms}};
+    for (std::size_t k = 0; k < f.parameters.size(); ++k) {
+      j[f.parameter_names[k]] = f.parameters[k];
+      if (k < f.ci_low.size()) j[f.parameter_names[k] + "_ci95"] = {f.ci_low[k], f.ci_high[k]};
+    }
+    models[f.name] = j;
+    if (f.aic < best_aic) best_aic = f.aic, best = f.name;
+  }
+  section["models"] = models;
+  section["best_by_aic"] = best;
+  if (samples_out) *samples_out = samples;
+  return section;
+}
+
+}  // namespace
+
+nlohmann::json run_fit(const FitOptions& opt) {
+  Triangulation mesh;
+  const PointFields dem = read_dem_fields(opt.fields_path, &mesh);
+  double spacing = opt.sample_spacing_m;
+  if (spacing <= 0) spacing = H5File::open_read(opt.fields_path).attribute_double("/", "rve_radius_m");
+  if (!(spacing > 0)) spacing = 0.01;
+  std::filesystem::create_directories(opt.out_dir);
+  const nlohmann::json section = fit_section(dem, spacing, opt.resamples, opt.folds, opt.seed, nullptr, nullptr);
+  write_report_section(in_dir(opt.out_dir, "report.json"), "fit", section);
+  return section;
+}
+
+nlohmann::json run_compare(const CompareRunOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  const std::string scene_dir = std::filesystem::path(opt.scene_path).parent_path().string();
+  auto path_key = [&](const char* key, const std::string& fallback) {
+    const std::string p = reader.get_string(key, "");
+    if (p.empty()) return fallback;
+    return std::filesystem::path(p).is_absolute() ? p : (std::filesystem::path(scene_dir) / p).string();
+  };
+  const std::string fields_path = path_key("compare.fields_file", in_dir(opt.out_dir, "fields.h5"));
+  const std::string models_path = path_key("compare.models_file", in_dir(opt.out_dir, "models.h5"));
+  const int resamples = static_cast<int>(reader.get_int("compare.fit_resamples", 200, 0, 100000));
+  const int folds = static_cast<int>(reader.get_int("compare.fit_folds", 5, 2, 100));
+  const auto seed = static_cast<unsigned>(reader.get_int("compare.fit_seed", 1, 0, 1L << 31));
+  double spacing = reader.get_double("compare.fit_sample_spacing_m", 0.0, Range::at_least(0.0));
+  double repose_deg = reader.get_double("compare.repose_angle_deg", 0.0, Range::closed(0.0, 45.0));
+  reader.reject_unknown({"compare"}, scene_tables());
+
+  Triangulation mesh;
+  bool on_nodes = true;
+  const PointFields dem = read_dem_fields(fields_path, &mesh, &on_nodes);
+  if (!on_nodes)
+    throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
+  H5File fields_file = H5File::open_read(fields_path);
+  const double height = fields_file.attribute_double("/", "height_m");
+  if (spacing <= 0) spacing = fields_file.attribute_double("/", "rve_radius_m");
+  if (!(spacing > 0)) spacing = height / 20;
+  const nlohmann::json report = read_report(in_dir(opt.out_dir, "report.json"));
+  if (repose_deg <= 0 && report.contains("dem")) {
+    const auto& d = report["dem"];
+    if (d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number())
+      repose_deg = 0.5 * (d["repose_angle_left_deg"].get<double>() + d["repose_angle_right_deg"].get<double>());
+  }
+  // The axis: through the apex, the highest node.
+  double apex_x = 0, top = -INFINITY;
+  for (const Vec2& p : mesh.nodes)
+    if (p.y() > top) top = p.y(), apex_x = p.x();
+  const Region lower_half = [&](const Vec2& c) { return c.y() < 0.5 * height; };
+
+  nlohmann::json section = {{"fields_file", fields_path}, {"height_m", height}, {"apex_x_m", apex_x}};
+  std::vector<VtuField> vtu;
+  auto add_field = [&](const std::string& name, const std::vector<double>& v, const std::vector<char>& ok) {
+    VtuField f{name, v};
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!ok[i]) f.values[i] = 0.0;
+    vtu.push_back(std::move(f));
+  };
+  for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
+    if (dem.has(q)) add_field(std::string("dem_") + q, dem.at(q), dem.valid.at(q));
+
+  // DEM against each model.
+  nlohmann::json models = nlohmann::json::object();
+  if (std::filesystem::exists(models_path)) {
+    for (const std::string& name : model_names(models_path)) {
+      const PointFields raw = read_model_fields(models_path, name);
+      const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
+      const PointFields model = reindex(raw, index, dem.points.size());
+      nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int k) { return k >= 0; })}};
+      for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
+        if (!model.has(c) || !dem.has(c)) continue;
+        const L2Difference all = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c));
+        const L2Difference low = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c), lower_half);
+        m[std::string("relative_l2_") + c] = all.relative;
+        m[std::string("relative_l2_lower_half_") + c] = low.relative;
+        add_field(name + "_" + c, model.at(c), model.valid.at(c));
+        std::vector<double> d(dem.points.size());
+        for (std::size_t i = 0; i < d.size(); ++i) d[i] = model.at(c)[i] - dem.at(c)[i];
+        add_field(name + "_minus_dem_" + c, d, both(model.valid.at(c), dem.valid.at(c)));
+      }
+      if (model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")) {
+        std::vector<double> angle(dem.points.size());
+        std::vector<char> ok = both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
+        for (std::size_t i = 0; i < angle.size(); ++i)
+          if (ok[i])
+            angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
+                                      compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
+        m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
+        add_field(name + "_axis_angle_to_dem_deg", angle, ok);
+      }
+      if (model.has("displacement_x") && dem.has("displacement_x")) {
+        // || u_model - u_dem || / || u_dem || over both components.
+        const L2Difference x = l2_difference(mesh, model.at("displacement_x"), model.valid.at("displacement_x"),
+                                             dem.at("displacement_x"), dem.valid.at("displacement_x"));
+        const L2Difference y = l2_difference(mesh, model.at("displacement_y"), model.valid.at("displacement_y"),
+                                             dem.at("displacement_y"), dem.valid.at("displacement_y"));
+        const double ref = std::hypot(x.reference, y.reference);
+        m["relative_l2_displacement"] = ref > 0 ? std::hypot(x.difference, y.difference) / ref : 0.0;
+        add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
+        add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
+      }
+      models[name] = m;
+    }
+  }
+  section["models_file"] = std::filesystem::exists(models_path) ? models_path : "";
+  section["models"] = models;
+
+  // Within the DEM: misalignment of stress, strain and fabric axes (the paper's Fig. 15).
+  nlohmann::json misalignment = nlohmann::json::object();
+  const std::pair<const char*, const char*> pairs[] = {{"stress", "strain"}, {"stress", "fabric"}, {"strain", "fabric"}};
+  for (const auto& [a, b] : pairs) {
+    const std::string qa = std::string(a) + "_orientation_deg", qb = std::string(b) + "_orientation_deg";
+    if (!dem.has(qa) || !dem.has(qb)) continue;
+    std::vector<char> ok = both(dem.valid.at(qa), dem.valid.at(qb));
+    std::vector<double> angle(dem.points.size(), 0.0);
+    for (std::size_t i = 0; i < angle.size(); ++i)
+      if (ok[i]) angle[i] = axis_angle_deg(dem.at(qa)[i], dem.at(qb)[i]);
+    const std::string name = std::string("misalignment_") + a + "_" + b + "_deg";
+    misalignment[name] = {{"mean", area_mean(mesh, angle, ok)}, {"mean_lower_half", area_mean(mesh, angle, ok, lower_half)}};
+    add_field("dem_" + name, angle, ok);
+  }
+  section["dem_misalignment"] = misalignment;
+
+  // Profiles: base dip per source, and the misalignment along the DEM's cuts.
+  const std::string csv = in_dir(opt.out_dir, "profiles.csv");
+  if (std::filesystem::exists(csv)) {
+    const auto rows = read_profile_values(csv);
+    std::map<std::string, std::vector<std::pair<double, double>>> base;  // source -> (x, sigma_yy) at lowest cut
+    std::map<std::string, double> lowest;
+    for (const auto& r : rows)
+      if (r.quantity == "sigma_yy") lowest[r.source] = std::min(lowest.count(r.source) ? lowest[r.source] : 1e300, r.y_over_h);
+    for (const auto& r : rows)
+      if (r.quantity == "sigma_yy" && r.y_over_h == lowest[r.source]) base[r.source].emplace_back(r.x_m, r.value);
+    nlohmann::json dips = nlohmann::json::object();
+    for (auto& [source, pts] : base) {
+      std::sort(pts.begin(), pts.end());
+      if (pts.size() < 3) continue;
+      const double x0 = pts.front().first, x1 = pts.back().first;
+      const double half_width = 0.5 * (x1 - x0);
+      auto best = std::max_element(pts.begin(), pts.end(), [](auto& a, auto& b) { return a.second < b.second; });
+      // sigma_yy at the axis, linearly interpolated.
+      double centre = pts.front().second;
+      for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+        if (pts[i].first <= apex_x && apex_x <= pts[i + 1].first) {
+          const double t = (apex_x - pts[i].first) / std::max(pts[i + 1].first - pts[i].first, 1e-300);
+          centre = (1 - t) * pts[i].second + t * pts[i + 1].second;
+        }
+      dips[source] = {{"y_over_h", lowest[source]},
+                      {"centre_over_max", best->second > 0 ? centre / best->second : 0.0},
+                      {"max", best->second},
+                      {"x_of_max_over_R", half_width > 0 ? (best->first - apex_x) / half_width : 0.0}};
+    }
+    section["base_pressure_dip"] = dips;
+    // Misalignment profiles from the DEM's orientation rows at the same points.
+    std::map<std::tuple<std::string, double, double>, double> orientation;
+    for (const auto& r : rows)
+      if (r.source == "dem" && r.quantity.size() > 16 && r.quantity.substr(r.quantity.size() - 16) == "_orientation_deg")
+        orientation[{r.quantity.substr(0, r.quantity.size() - 16), r.y_over_h, r.x_m}] = r.value;
+    std::vector<ProfileValue> extra;
+    for (const auto& r : rows) {
+      if (r.source == "dem" && r.quantity.rfind("misalignment_", 0) != 0) extra.push_back(r);
+      if (r.source != "dem" || r.quantity != "stress_orientation_deg") continue;
+      for (const auto& [a, b] : pairs) {
+        const auto ia = orientation.find({a, r.y_over_h, r.x_m}), ib = orientation.find({b, r.y_over_h, r.x_m});
+        if (ia == orientation.end() || ib == orientation.end()) continue;
+        extra.push_back({"dem", std::string("misalignment_") + a + "_" + b + "_deg", r.y_over_h, r.x_m,
+                         axis_angle_deg(ia->second, ib->second), 0.0, false});
+      }
+    }
+    write_profile_values(csv, extra);
+  }
+
+  // The FPA angle that best fits the DEM's stress axes: psi = deviation of the major axis from
+  // the vertical, towards the axis of the pile (left: 90 - theta, right: theta - 90).
+  if (dem.has("stress_orientation_deg")) {
+    const auto& th = dem.at("stress_orientation_deg");
+    const auto& ok = dem.valid.at("stress_orientation_deg");
+    std::vector<double> dev(th.size());
+    for (std::size_t i = 0; i < th.size(); ++i) dev[i] = mesh.nodes[i].x() < apex_x ? 90.0 - th[i] : th[i] - 90.0;
+    const double left = area_mean(mesh, dev, ok, [&](const Vec2& c) { return c.x() < apex_x; });
+    const double right = area_mean(mesh, dev, ok, [&](const Vec2& c) { return c.x() > apex_x; });
+    section["fpa_angle"] = {{"psi_fit_left_deg", left},
+                            {"psi_fit_right_deg", right},
+                            {"psi_fit_deg", 0.5 * (left + right)},
+                            {"repose_angle_deg", repose_deg},
+                            {"psi_fpa_deg", repose_deg > 0 ? 45.0 - 0.5 * repose_deg : 0.0}};
+  }
+
+  // Stress-strain fits, when the DEM has strains.
+  if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
+    const nlohmann::json fit = fit_section(dem, spacing, resamples, folds, seed, nullptr, nullptr);
+    write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
+  }
+
+  std::vector<std::array<double, 2>> nodes;
+  for (const auto& p : mesh.nodes) nodes.push_back({p.x(), p.y()});
+  write_triangle_vtu(in_dir(opt.out_dir, "compare.vtu"), nodes, mesh.triangles, vtu);
+  section["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  write_report_section(in_dir(opt.out_dir, "report.json"), "compare", section);
+  return section;
+}
+
+}  // namespace pilelab::compare

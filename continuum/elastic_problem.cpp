@@ -284,8 +284,10 @@ bool ElasticProblem::stress_at(const Point<2>& p, Stress2& stress_out, Tensor<1,
 }
 
 std::vector<std::string> ElasticProblem::quantity_names() {
-  return {"sigma_xx", "sigma_yy", "sigma_xy", "anisotropy", "major_axis_deg", "u_x", "u_y", "strain_xx",
-          "strain_yy", "strain_xy"};
+  return {"sigma_xx",          "sigma_yy",          "sigma_xy",         "pressure",
+          "stress_anisotropy", "stress_orientation_deg", "displacement_x", "displacement_y",
+          "strain_xx",         "strain_yy",         "strain_xy",        "stress_change_xx",
+          "stress_change_yy",  "stress_change_xy"};
 }
 
 PointEvaluator ElasticProblem::profile_evaluator(double rho_g_h) const {
@@ -296,10 +298,13 @@ PointEvaluator ElasticProblem::profile_evaluator(double rho_g_h) const {
     SymmetricTensor<2, 2> eps;
     if (!stress_at(p, s, u, eps)) return false;
     const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
-    // Stresses of the full load, normalised; displacement and strain of the gravity change
-    // (linear: the change of g times the full-gravity field), which the DEM relaxation measures.
-    v = {s.xx / rho_g_h, s.yy / rho_g_h, s.xy / rho_g_h, pr.anisotropy, pr.major_axis_deg,
-         change * u[0], change * u[1], change * eps[0][0], change * eps[1][1], change * eps[0][1]};
+    // Stresses of the full load, normalised and compressive positive; displacement, strain
+    // (extension positive) and stress increment (N/m, tension positive) of the gravity change,
+    // which the DEM relaxation measures: by linearity the change of g times the full fields.
+    v = {s.xx / rho_g_h,   s.yy / rho_g_h,     s.xy / rho_g_h,       0.5 * (s.xx + s.yy) / rho_g_h,
+         pr.anisotropy,    pr.orientation_deg, change * u[0],        change * u[1],
+         change * eps[0][0], change * eps[1][1], change * eps[0][1], -change * s.xx,
+         -change * s.yy,   -change * s.xy};
     return true;
   };
 }
@@ -312,7 +317,7 @@ std::string ElasticProblem::output_results(const std::string& out_dir, double rh
   data_out.attach_dof_handler(dof_handler_);
   const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector2(
       2, DataComponentInterpretation::component_is_part_of_vector);
-  data_out.add_data_vector(solution_, std::vector<std::string>(2, "displacement_m"), DataOut<2>::type_dof_data, vector2);
+  data_out.add_data_vector(solution_, std::vector<std::string>(2, "displacement"), DataOut<2>::type_dof_data, vector2);
 
   // The gravity change is a load rho g * change: by linearity its displacement is change * u.
   PETScWrappers::MPI::Vector change(owned_, comm_);
@@ -320,7 +325,7 @@ std::string ElasticProblem::output_results(const std::string& out_dir, double rh
   change *= settings_.gravity_change;
   PETScWrappers::MPI::Vector change_ghosted(owned_, relevant_, comm_);
   change_ghosted = change;
-  data_out.add_data_vector(change_ghosted, std::vector<std::string>(2, "displacement_gravity_change_m"),
+  data_out.add_data_vector(change_ghosted, std::vector<std::string>(2, "displacement_gravity_change"),
                            DataOut<2>::type_dof_data, vector2);
 
   const StressPostprocessor stresses(
@@ -330,27 +335,33 @@ std::string ElasticProblem::output_results(const std::string& out_dir, double rh
       update_gradients, rho_g_h);
   data_out.add_data_vector(solution_, stresses);
 
-  // Strain of the gravity change (extension positive, dimensionless).
-  class StrainOfChange : public DataPostprocessor<2> {
+  // Strain (extension positive) and stress increment (N/m, tension positive) of the gravity
+  // change, named as coarse/ names the DEM's (snapshot to strain_to).
+  class ChangeFields : public DataPostprocessor<2> {
    public:
-    explicit StrainOfChange(double c) : c_(c) {}
+    ChangeFields(const ElasticProblem& p, double c) : p_(p), c_(c) {}
     void evaluate_vector_field(const DataPostprocessorInputs::Vector<2>& in,
                                std::vector<Vector<double>>& out) const override {
       for (unsigned q = 0; q < out.size(); ++q) {
         const SymmetricTensor<2, 2> eps = symmetrize(displacement_gradient(in, q));
+        const SymmetricTensor<2, 2> sigma = p_.stress(eps);
         out[q][0] = c_ * eps[0][0];
         out[q][1] = c_ * eps[1][1];
         out[q][2] = c_ * eps[0][1];
+        out[q][3] = c_ * sigma[0][0];
+        out[q][4] = c_ * sigma[1][1];
+        out[q][5] = c_ * sigma[0][1];
       }
     }
     std::vector<std::string> get_names() const override {
-      return {"strain_gravity_change_xx", "strain_gravity_change_yy", "strain_gravity_change_xy"};
+      return {"strain_xx", "strain_yy", "strain_xy", "stress_change_xx", "stress_change_yy", "stress_change_xy"};
     }
     UpdateFlags get_needed_update_flags() const override { return update_gradients; }
 
    private:
+    const ElasticProblem& p_;
     double c_;
-  } strain(settings_.gravity_change);
+  } strain(*this, settings_.gravity_change);
   data_out.add_data_vector(solution_, strain);
 
   Vector<float> rank(tria_.n_active_cells());

@@ -245,7 +245,7 @@ double FpaProblem::stress_error(const std::function<Stress2(const Point<2>&)>& e
 }
 
 std::vector<std::string> FpaProblem::quantity_names() {
-  return {"sigma_xx", "sigma_yy", "sigma_xy", "anisotropy", "major_axis_deg"};
+  return {"sigma_xx", "sigma_yy", "sigma_xy", "pressure", "stress_anisotropy", "stress_orientation_deg"};
 }
 
 PointEvaluator FpaProblem::profile_evaluator(double rho_g_h) const {
@@ -253,7 +253,8 @@ PointEvaluator FpaProblem::profile_evaluator(double rho_g_h) const {
     Stress2 s;
     if (!stress_at(p, s)) return false;
     const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
-    v = {s.xx / rho_g_h, s.yy / rho_g_h, s.xy / rho_g_h, pr.anisotropy, pr.major_axis_deg};
+    v = {s.xx / rho_g_h, s.yy / rho_g_h, s.xy / rho_g_h, 0.5 * (s.xx + s.yy) / rho_g_h, pr.anisotropy,
+         pr.orientation_deg};
     return true;
   };
 }

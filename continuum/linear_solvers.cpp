@@ -4,9 +4,8 @@
 #include <stdexcept>
 #include <string>
 
-#include <deal.II/lac/petsc_solver.h>
-#include <deal.II/lac/solver_control.h>
 #include <petscksp.h>
+#include <petscmat.h>
 
 namespace pilelab::continuum {
 
@@ -36,55 +35,62 @@ double relative_residual(const PETScWrappers::MPI::SparseMatrix& A, const PETScW
   return bnorm > 0 ? r.l2_norm() / bnorm : r.l2_norm();
 }
 
-}  // namespace
+// MUMPS's sparse Cholesky (LL^T without pivoting: the matrices are symmetric positive definite)
+// with METIS's nested-dissection ordering, which suits 2D meshes.
+void configure_direct(KSP ksp, PC pc, Mat mat) {
+  check(MatSetOption(mat, MAT_SPD, PETSC_TRUE), "MatSetOption");
+  check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+  check(PCSetType(pc, PCCHOLESKY), "PCSetType");
+  check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+  check(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType");
+  Mat factor;
+  check(PCFactorGetMatrix(pc, &factor), "PCFactorGetMatrix");
+  check(MatMumpsSetIcntl(factor, 7, 5), "MatMumpsSetIcntl");  // ICNTL(7) = 5: METIS
+}
 
-SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::MPI::Vector& x,
-                     const PETScWrappers::MPI::Vector& b, std::vector<PETScWrappers::MPI::Vector> near_null_space,
-                     unsigned block_size, const SolverSettings& settings, const std::string& options_prefix) {
-  SolveStats stats;
-  const MPI_Comm comm = A.get_mpi_communicator();
-  if (settings.kind == SolverSettings::Kind::direct) {
-    // MUMPS in symmetric mode: an LDL^T factorisation, exact up to round-off.
-    SolverControl control(1, 0);
-    PETScWrappers::SparseDirectMUMPS solver(control, comm);
-    solver.set_symmetric_mode(true);
-    solver.solve(A, x, b);
-    stats.iterations = 1;
-    stats.relative_residual = relative_residual(A, x, b);
-    return stats;
-  }
-
-  // CG on the unpreconditioned residual, so that the tolerance means |b - A x| <= tol |b|
-  // whatever the preconditioner, and the same on any number of ranks.
-  Mat mat = A;
-  KSP ksp;
-  PC pc;
-  check(KSPCreate(comm, &ksp), "KSPCreate");
-  check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+// CG on the unpreconditioned residual, so that the tolerance means |b - A x| <= tol |b| whatever
+// the preconditioner and on any number of ranks; GAMG (smoothed aggregation, Chebyshev/Jacobi
+// smoothing) as the preconditioner, with the near-null space if there is one.
+MatNullSpace configure_cg_gamg(KSP ksp, PC pc, Mat mat, std::vector<PETScWrappers::MPI::Vector>& near_null_space,
+                               unsigned block_size, const SolverSettings& settings, MPI_Comm comm) {
   check(KSPSetType(ksp, KSPCG), "KSPSetType");
   check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
   check(KSPSetTolerances(ksp, settings.relative_tolerance, 0.0, PETSC_DEFAULT, settings.max_iterations),
         "KSPSetTolerances");
-  check(KSPSetInitialGuessNonzero(ksp, PETSC_FALSE), "KSPSetInitialGuessNonzero");
-  check(KSPGetPC(ksp, &pc), "KSPGetPC");
   // The unknowns of a support point are consecutive (FESystem numbers them together and
   // parallel::shared keeps that order), so the matrix is made of block_size x block_size
   // blocks: GAMG aggregates nodes instead of single dofs and keeps its coarse levels sparse.
   if (block_size > 1) check(MatSetBlockSize(mat, block_size), "MatSetBlockSize");
   check(PCSetType(pc, PCGAMG), "PCSetType");
-  MatNullSpace null_space = nullptr;
-  if (!near_null_space.empty()) {
-    orthonormalise(near_null_space);
-    std::vector<Vec> vecs;
-    for (auto& v : near_null_space) vecs.push_back(v);
-    check(MatNullSpaceCreate(comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &null_space),
-          "MatNullSpaceCreate");
-    check(MatSetNearNullSpace(mat, null_space), "MatSetNearNullSpace");
-  }
-  // Smoothed aggregation with Chebyshev/Jacobi smoothing (GAMG's defaults for SPD problems);
-  // a threshold drops weak couplings so that coarsening follows the strong ones.
-  PetscReal threshold[1] = {0.02};
+  PetscReal threshold[1] = {0.02};  // drop weak couplings: coarsen along the strong ones
   check(PCGAMGSetThreshold(pc, threshold, 1), "PCGAMGSetThreshold");
+  if (near_null_space.empty()) return nullptr;
+  orthonormalise(near_null_space);
+  std::vector<Vec> vecs;
+  for (auto& v : near_null_space) vecs.push_back(v);
+  MatNullSpace null_space;
+  check(MatNullSpaceCreate(comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()), vecs.data(), &null_space),
+        "MatNullSpaceCreate");
+  check(MatSetNearNullSpace(mat, null_space), "MatSetNearNullSpace");
+  return null_space;
+}
+
+}  // namespace
+
+SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::MPI::Vector& x,
+                     const PETScWrappers::MPI::Vector& b, std::vector<PETScWrappers::MPI::Vector> near_null_space,
+                     unsigned block_size, const SolverSettings& settings, const std::string& options_prefix) {
+  const MPI_Comm comm = A.get_mpi_communicator();
+  const bool direct = settings.kind == SolverSettings::Kind::direct;
+  Mat mat = A;
+  KSP ksp;
+  PC pc;
+  check(KSPCreate(comm, &ksp), "KSPCreate");
+  check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+  check(KSPGetPC(ksp, &pc), "KSPGetPC");
+  MatNullSpace null_space = nullptr;
+  if (direct) configure_direct(ksp, pc, mat);
+  else null_space = configure_cg_gamg(ksp, pc, mat, near_null_space, block_size, settings, comm);
   // Expert tuning from the environment, e.g. PETSC_OPTIONS="-fpa_pc_type hypre" (docs/CONTINUUM.md).
   check(KSPSetOptionsPrefix(ksp, options_prefix.c_str()), "KSPSetOptionsPrefix");
   check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
@@ -99,8 +105,13 @@ SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::M
     MatNullSpaceDestroy(&null_space);
   }
   KSPDestroy(&ksp);
-  stats.iterations = static_cast<unsigned>(its);
+
+  SolveStats stats;
+  stats.iterations = direct ? 1 : static_cast<unsigned>(its);
   stats.relative_residual = relative_residual(A, x, b);
+  if (direct && !(stats.relative_residual < 1e-6))
+    throw std::runtime_error("the direct solver (MUMPS Cholesky) failed: relative residual " +
+                             std::to_string(stats.relative_residual) + " (is the problem singular?)");
   if (reason < 0 || !std::isfinite(stats.relative_residual))
     throw std::runtime_error("CG with algebraic multigrid did not converge (PETSc reason " + std::to_string(reason) +
                              ", " + std::to_string(its) + " iterations, relative residual " +

@@ -12,9 +12,11 @@ Principal principal_stress(const Stress2& p, double zero_scale) {
   out.major = mean + radius;
   out.minor = mean - radius;
   // The major axis makes the angle theta with x where tan(2 theta) = 2 xy / (xx - yy), on the
-  // branch that maximises the normal stress: theta = atan2(2 xy, xx - yy) / 2, in (-90, 90].
-  out.major_axis_deg = 0.5 * std::atan2(2.0 * p.xy, p.xx - p.yy) * 180.0 / M_PI;
-  if (out.major_axis_deg <= -90.0) out.major_axis_deg += 180.0;
+  // branch that maximises the normal stress: theta = atan2(2 xy, xx - yy) / 2 in (-90, 90],
+  // then taken into [0, 180) (an axis, not a direction).
+  out.orientation_deg = 0.5 * std::atan2(2.0 * p.xy, p.xx - p.yy) * 180.0 / M_PI;
+  if (out.orientation_deg < 0.0) out.orientation_deg += 180.0;
+  if (out.orientation_deg >= 180.0) out.orientation_deg -= 180.0;
   const double sum = std::abs(out.major + out.minor);
   out.anisotropy = sum > zero_scale ? (out.major - out.minor) / sum : 0.0;
   return out;
@@ -24,14 +26,8 @@ StressPostprocessor::StressPostprocessor(StressAt stress, dealii::UpdateFlags ne
     : stress_(std::move(stress)), needed_(needed), rho_g_h_(rho_g_h) {}
 
 std::vector<std::string> StressPostprocessor::get_names() const {
-  return {"stress_xx_N_per_m",
-          "stress_yy_N_per_m",
-          "stress_xy_N_per_m",
-          "principal_stress_major_N_per_m",
-          "principal_stress_minor_N_per_m",
-          "major_axis_angle_deg",
-          "stress_anisotropy",
-          "sigma_yy_over_rho_g_h"};
+  return {"stress_xx",        "stress_yy",         "stress_xy",      "pressure", "principal_stress_major",
+          "principal_stress_minor", "stress_anisotropy", "stress_orientation_deg", "sigma_yy_over_rho_g_h"};
 }
 
 void StressPostprocessor::evaluate_vector_field(const dealii::DataPostprocessorInputs::Vector<2>& inputs,
@@ -40,14 +36,15 @@ void StressPostprocessor::evaluate_vector_field(const dealii::DataPostprocessorI
     const Stress2 p = stress_(inputs, q);
     const Principal pr = principal_stress(p, 1e-9 * rho_g_h_);
     dealii::Vector<double>& c = computed[q];
-    c[0] = p.xx;
-    c[1] = p.yy;
-    c[2] = p.xy;
-    c[3] = pr.major;
-    c[4] = pr.minor;
-    c[5] = pr.major_axis_deg;
+    c[0] = -p.xx;  // tension positive, as fields.vtu
+    c[1] = -p.yy;
+    c[2] = -p.xy;
+    c[3] = 0.5 * (p.xx + p.yy);
+    c[4] = pr.major;
+    c[5] = pr.minor;
     c[6] = pr.anisotropy;
-    c[7] = p.yy / rho_g_h_;
+    c[7] = pr.orientation_deg;
+    c[8] = p.yy / rho_g_h_;
   }
 }
 

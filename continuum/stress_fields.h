@@ -1,7 +1,8 @@
 #pragma once
-// Stress measures shared by both models' outputs. Output stresses are compressive positive
-// (granular convention, as in profiles.csv and the paper); inside the solvers stresses are
-// tension positive (continuum-mechanics convention). N/m throughout (2D: force per length).
+// Stress measures shared by both models' outputs. Stresses are tension positive in the solvers
+// and in the VTU stress_* fields (as coarse/'s fields), compressive positive in the derived
+// measures (pressure, principal stresses) and in profiles.csv (as the paper plots them).
+// N/m throughout (2D: force per length).
 #include <string>
 
 #include <deal.II/base/symmetric_tensor.h>
@@ -20,8 +21,8 @@ struct Stress2 {
 struct Principal {
   double major = 0;           ///< s1, the larger principal value (most compressive)
   double minor = 0;           ///< s2 <= s1
-  double major_axis_deg = 0;  ///< angle of s1's axis from the +x axis, counter-clockwise, in (-90, 90]
-  double anisotropy = 0;      ///< (s1 - s2) / |s1 + s2|; 0 where |s1 + s2| <= zero_scale (unstressed)
+  double orientation_deg = 0;  ///< s1's axis from the horizontal, counter-clockwise, in [0, 180): 90 vertical
+  double anisotropy = 0;       ///< (s1 - s2) / |s1 + s2|; 0 where |s1 + s2| <= zero_scale (unstressed)
 };
 
 /// zero_scale: a stress below which s1 + s2 counts as zero (e.g. 1e-9 rho g h), so that the
@@ -35,9 +36,10 @@ Principal principal_stress(const Stress2& p, double zero_scale);
 
 namespace pilelab::continuum {
 
-/// Turns a model's stress at each output point into the named fields of docs/FORMAT.md:
-/// stress_xx/yy/xy_N_per_m, principal_stress_major/minor_N_per_m, major_axis_angle_deg,
-/// stress_anisotropy and sigma_yy_over_rho_g_h (all compressive positive).
+/// Turns a model's stress at each output point into the named fields of docs/FORMAT.md, with
+/// the names and signs of coarse/'s fields.vtu: stress_xx/yy/xy (N/m, tension positive),
+/// pressure (N/m, compression positive), principal_stress_major/minor (N/m, compressive),
+/// stress_anisotropy, stress_orientation_deg, and sigma_yy_over_rho_g_h (compression positive).
 class StressPostprocessor : public dealii::DataPostprocessor<2> {
  public:
   /// stress(inputs, q): the compressive-positive stress at output point q.

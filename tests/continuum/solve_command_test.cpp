@@ -102,14 +102,14 @@ TEST(SolveCommand, OneAndTwoRanksGiveTheSameAnswer) {
   ASSERT_GT(a.size(), 100u);
   double u_max = 0;
   for (const auto& [key, v] : a)
-    if (key.find(",u_") != std::string::npos) u_max = std::max(u_max, std::abs(v));
+    if (key.find(",displacement_") != std::string::npos) u_max = std::max(u_max, std::abs(v));
   ASSERT_GT(u_max, 0.0);
   double worst_stress = 0, worst_u = 0;
   for (const auto& [key, v] : a) {
     ASSERT_TRUE(b.count(key)) << key;
     const double d = std::abs(v - b.at(key));
     if (key.find(",sigma_") != std::string::npos) worst_stress = std::max(worst_stress, d);
-    if (key.find(",u_") != std::string::npos) worst_u = std::max(worst_u, d / u_max);
+    if (key.find(",displacement_") != std::string::npos) worst_u = std::max(worst_u, d / u_max);
   }
   std::printf("1 vs 2 ranks: max stress difference %.2e rho g h, max displacement difference %.2e of max\n",
               worst_stress, worst_u);

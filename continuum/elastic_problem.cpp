@@ -309,6 +309,32 @@ PointEvaluator ElasticProblem::profile_evaluator(double rho_g_h) const {
   };
 }
 
+std::vector<std::string> ElasticProblem::field_names() {
+  return {"stress_xx",        "stress_yy",         "stress_xy",          "pressure",         "principal_stress_major",
+          "principal_stress_minor", "stress_anisotropy", "stress_orientation_deg", "displacement_x", "displacement_y",
+          "strain_xx",        "strain_yy",         "strain_xy",          "stress_change_xx", "stress_change_yy",
+          "stress_change_xy"};
+}
+
+std::vector<std::string> ElasticProblem::field_units() {
+  return {"N/m", "N/m", "N/m", "N/m", "N/m", "N/m", "1", "degree", "m", "m", "1", "1", "1", "N/m", "N/m", "N/m"};
+}
+
+PointEvaluator ElasticProblem::field_evaluator(double rho_g_h) const {
+  const double change = settings_.gravity_change;
+  return [this, rho_g_h, change](const Point<2>& p, std::vector<double>& v) {
+    Stress2 s;
+    Tensor<1, 2> u;
+    SymmetricTensor<2, 2> eps;
+    if (!stress_at(p, s, u, eps)) return false;
+    const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
+    v = {-s.xx,        -s.yy,          -s.xy,           0.5 * (s.xx + s.yy), pr.major,           pr.minor,
+         pr.anisotropy, pr.orientation_deg, change * u[0], change * u[1],      change * eps[0][0], change * eps[1][1],
+         change * eps[0][1], -change * s.xx, -change * s.yy, -change * s.xy};
+    return true;
+  };
+}
+
 std::string ElasticProblem::output_results(const std::string& out_dir, double rho_g_h) const {
   DataOut<2> data_out;
   data_out.set_cell_selection([](const typename Triangulation<2>::cell_iterator& cell) {

@@ -70,6 +70,12 @@ class ElasticProblem {
   static std::vector<std::string> quantity_names();
   PointEvaluator profile_evaluator(double rho_g_h) const;
 
+  /// Fields for OUT/models.h5 at a point (names, units: docs/FORMAT.md), in the units and signs
+  /// of coarse/'s fields.h5 so that compare/ can put them beside the DEM's.
+  static std::vector<std::string> field_names();
+  static std::vector<std::string> field_units();
+  PointEvaluator field_evaluator(double rho_g_h) const;
+
   /// OUT/elastic.vtu (or .pvtu): displacement, gravity-change displacement and strain, stresses.
   std::string output_results(const std::string& out_dir, double rho_g_h) const;
 

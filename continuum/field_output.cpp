@@ -2,15 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <fstream>
-#include <set>
-#include <sstream>
 
 #include <deal.II/base/mpi.h>
 
 #include "common/atomic_file.h"
+#include "common/hdf5_file.h"
 #include "common/error.h"
 
 namespace pilelab::continuum {
@@ -76,62 +75,75 @@ std::pair<double, double> width_at(const Triangulation<2>& tria, double y0) {
 
 }  // namespace
 
-std::vector<ProfileRow> sample_profiles(const Triangulation<2>& tria, const PileGeometry& pile,
+std::vector<ProfileValue> sample_profiles(const Triangulation<2>& tria, const PileGeometry& pile,
                                         const std::vector<double>& heights, int n_points, const std::string& source,
                                         const std::vector<std::string>& quantities, const PointEvaluator& evaluate,
                                         MPI_Comm comm) {
   const std::size_t nq = quantities.size();
-  std::vector<ProfileRow> rows;
-  std::vector<double> values(nq);
+  std::vector<ProfileValue> rows;
   for (const double eta : heights) {
     const double y = eta * pile.height_m;
     const auto [x0, x1] = width_at(tria, y);
     if (!(x1 > x0)) continue;  // the cut misses the domain
-    // Gather: each point is evaluated by the one rank owning its cell; sums over ranks.
-    std::vector<double> local((nq + 1) * n_points, 0.0);
-    std::vector<double> xs(n_points);
+    const std::vector<double> xs = profile_points(x0, x1, n_points);
+    std::vector<Point<2>> points;
+    for (double x : xs) points.emplace_back(x, y);
+    const auto values = evaluate_at_points(points, nq, evaluate, comm);
     for (int i = 0; i < n_points; ++i) {
-      xs[i] = x0 + (x1 - x0) * (i + 0.5) / n_points;
-      if (evaluate(Point<2>(xs[i], y), values)) {
-        local[(nq + 1) * i] = 1.0;
-        for (std::size_t q = 0; q < nq; ++q) local[(nq + 1) * i + 1 + q] = values[q];
-      }
-    }
-    std::vector<double> global(local.size());
-    MPI_Allreduce(local.data(), global.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
-    for (int i = 0; i < n_points; ++i) {
-      if (global[(nq + 1) * i] != 1.0) continue;  // outside the mesh (a notch in the outline)
-      for (std::size_t q = 0; q < nq; ++q)
-        rows.push_back({source, quantities[q], eta, xs[i], global[(nq + 1) * i + 1 + q]});
+      if (std::isnan(values[0][i])) continue;  // outside the mesh (a notch in the outline): no row
+      for (std::size_t q = 0; q < nq; ++q) rows.push_back({source, quantities[q], eta, xs[i], values[q][i], 0.0, false});
     }
   }
   return rows;
 }
 
-void write_profiles_csv(const std::string& csv_path, const std::vector<ProfileRow>& rows) {
-  std::set<std::string> replaced;
-  for (const auto& r : rows) replaced.insert(r.source);
-  std::ostringstream out;
-  const std::string header = "source,quantity,y_over_h,x_m,value,stderr";
-  out << header << "\n";
-  if (std::filesystem::exists(csv_path)) {
-    std::istringstream in(read_text_file(csv_path));
-    std::string line;
-    std::getline(in, line);
-    if (line != header)
-      throw InputError(csv_path + ": unexpected header \"" + line + "\" (expected \"" + header + "\")");
-    while (std::getline(in, line)) {
-      if (line.empty()) continue;
-      if (!replaced.count(line.substr(0, line.find(',')))) out << line << "\n";
+std::vector<std::vector<double>> evaluate_at_points(const std::vector<Point<2>>& points, std::size_t nq,
+                                                    const PointEvaluator& evaluate, MPI_Comm comm) {
+  // Each point is evaluated by the one rank that owns its cell; a sum over ranks gathers them.
+  const std::size_t n = points.size();
+  std::vector<double> local((nq + 1) * n, 0.0), global((nq + 1) * n);
+  std::vector<double> v(nq);
+  for (std::size_t i = 0; i < n; ++i)
+    if (evaluate(points[i], v)) {
+      local[(nq + 1) * i] = 1.0;
+      for (std::size_t q = 0; q < nq; ++q) local[(nq + 1) * i + 1 + q] = v[q];
     }
-  }
-  char buf[256];
-  for (const auto& r : rows) {
-    std::snprintf(buf, sizeof buf, "%s,%s,%.6g,%.9g,%.9g,\n", r.source.c_str(), r.quantity.c_str(), r.y_over_h,
-                  r.x_m, r.value);
-    out << buf;
-  }
-  write_text_atomically(csv_path, out.str());
+  MPI_Allreduce(local.data(), global.data(), static_cast<int>(global.size()), MPI_DOUBLE, MPI_SUM, comm);
+  std::vector<std::vector<double>> out(nq, std::vector<double>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t q = 0; q < nq; ++q)
+      out[q][i] = global[(nq + 1) * i] == 1.0 ? global[(nq + 1) * i + 1 + q] : std::numeric_limits<double>::quiet_NaN();
+  return out;
+}
+
+std::vector<Point<2>> model_output_points(const Triangulation<2>& tria) {
+  std::vector<Point<2>> points;
+  const auto& vertices = tria.get_vertices();
+  const auto& used = tria.get_used_vertices();
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (used[i]) points.push_back(vertices[i]);
+  for (const auto& cell : tria.active_cell_iterators()) points.push_back(cell->center());
+  return points;
+}
+
+void write_models_h5(const std::string& path, const std::vector<Point<2>>& points,
+                     const std::vector<ModelFields>& models, double rho_g_h, double height_m) {
+  write_atomically(path, [&](const std::string& tmp) {
+    H5File f = H5File::create(tmp);
+    f.set_attribute("/", "format", std::string("pilelab-models"));
+    f.set_attribute("/", "format_version", std::int64_t(1));
+    f.set_attribute("/", "rho_g_h_N_per_m", rho_g_h);
+    f.set_attribute("/", "height_m", height_m);
+    f.set_attribute("/", "note", std::string("stress_* tension positive (N/m, 2D); pressure and principal "
+                                             "stresses compression positive; NaN: point outside the mesh"));
+    std::vector<double> xy;
+    for (const auto& p : points) xy.insert(xy.end(), {p[0], p[1]});
+    for (const ModelFields& m : models) {
+      f.write("/" + m.model + "/points", xy, {points.size(), 2}, "m");
+      for (std::size_t q = 0; q < m.names.size(); ++q)
+        f.write("/" + m.model + "/" + m.names[q], m.values[q], {points.size()}, m.units[q]);
+    }
+  });
 }
 
 }  // namespace pilelab::continuum

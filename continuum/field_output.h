@@ -1,7 +1,7 @@
 #pragma once
 // Output shared by the models: VTU files (one piece per rank plus a .pvtu record under MPI,
-// each written atomically), horizontal profiles sampled at points and gathered on rank 0, and
-// the long-format OUT/profiles.csv that coarse/ writes too.
+// each written atomically) and horizontal profiles sampled at points and gathered on rank 0,
+// at the points coarse/ uses, for OUT/profiles.csv (common/profiles_csv.h).
 #include <functional>
 #include <string>
 #include <vector>
@@ -9,6 +9,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "common/profiles_csv.h"
 #include "continuum/pile_domain.h"
 
 namespace pilelab::continuum {
@@ -19,29 +20,37 @@ namespace pilelab::continuum {
 std::string write_vtu(const dealii::DataOut<2>& data_out, const std::string& out_dir, const std::string& name,
                       MPI_Comm comm);
 
-struct ProfileRow {
-  std::string source;    ///< "elastic" or "fpa"
-  std::string quantity;  ///< e.g. "sigma_yy"
-  double y_over_h = 0;
-  double x_m = 0;
-  double value = 0;
-};
-
 /// Values of named quantities at a point. Returns false when the point's cell is not owned by
 /// this rank (exactly one rank owns it, so the gathered result does not depend on the ranks).
 using PointEvaluator = std::function<bool(const dealii::Point<2>&, std::vector<double>& values)>;
 
 /// Samples `quantities` along horizontal cuts at the given heights (fractions of the pile height)
-/// at n_points points spread evenly over the width of the domain at that height (cell-centred:
-/// x_i = x_left + (i + 1/2) (x_right - x_left) / n_points). Collective; the rows are complete on
-/// rank 0 only.
-std::vector<ProfileRow> sample_profiles(const dealii::Triangulation<2>& tria, const PileGeometry& pile,
+/// at n_points points across the width of the domain at that height (pilelab::profile_points:
+/// cell-centred, as coarse/ samples the DEM). Collective; every rank gets all rows.
+std::vector<ProfileValue> sample_profiles(const dealii::Triangulation<2>& tria, const PileGeometry& pile,
                                         const std::vector<double>& heights, int n_points, const std::string& source,
                                         const std::vector<std::string>& quantities, const PointEvaluator& evaluate,
                                         MPI_Comm comm);
 
-/// Rewrites csv_path atomically with the rows of other sources kept and those of the sources in
-/// `rows` replaced. Columns: source,quantity,y_over_h,x_m,value,stderr (stderr empty: models).
-void write_profiles_csv(const std::string& csv_path, const std::vector<ProfileRow>& rows);
+/// Evaluates n_values quantities at every point (collective). values[q][i]; NaN where no rank
+/// owns a cell containing point i (outside the mesh).
+std::vector<std::vector<double>> evaluate_at_points(const std::vector<dealii::Point<2>>& points, std::size_t n_values,
+                                                    const PointEvaluator& evaluate, MPI_Comm comm);
+
+/// One model's fields at points, for OUT/models.h5 (what compare/ reads).
+struct ModelFields {
+  std::string model;                           ///< group name: "elastic" or "fpa"
+  std::vector<std::string> names, units;       ///< one per quantity
+  std::vector<std::vector<double>> values;     ///< [quantity][point]
+};
+
+/// Writes OUT/models.h5 atomically: root attributes format = "pilelab-models", format_version = 1,
+/// and per model a group with /MODEL/points (k, 2) and one dataset per quantity (attribute unit).
+void write_models_h5(const std::string& path, const std::vector<dealii::Point<2>>& points,
+                     const std::vector<ModelFields>& models, double rho_g_h, double height_m);
+
+/// The points models.h5 carries: every mesh vertex, then every cell centre (coarse/ samples the
+/// DEM at one or the other, and compare/ matches points by their coordinates).
+std::vector<dealii::Point<2>> model_output_points(const dealii::Triangulation<2>& tria);
 
 }  // namespace pilelab::continuum

@@ -259,6 +259,23 @@ PointEvaluator FpaProblem::profile_evaluator(double rho_g_h) const {
   };
 }
 
+std::vector<std::string> FpaProblem::field_names() {
+  return {"stress_xx", "stress_yy", "stress_xy", "pressure", "principal_stress_major", "principal_stress_minor",
+          "stress_anisotropy", "stress_orientation_deg"};
+}
+
+std::vector<std::string> FpaProblem::field_units() { return {"N/m", "N/m", "N/m", "N/m", "N/m", "N/m", "1", "degree"}; }
+
+PointEvaluator FpaProblem::field_evaluator(double rho_g_h) const {
+  return [this, rho_g_h](const Point<2>& p, std::vector<double>& v) {
+    Stress2 s;
+    if (!stress_at(p, s)) return false;
+    const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
+    v = {-s.xx, -s.yy, -s.xy, 0.5 * (s.xx + s.yy), pr.major, pr.minor, pr.anisotropy, pr.orientation_deg};
+    return true;
+  };
+}
+
 std::string FpaProblem::output_results(const std::string& out_dir, double rho_g_h) const {
   DataOut<2> data_out;
   data_out.set_cell_selection([](const typename Triangulation<2>::cell_iterator& cell) {

@@ -68,6 +68,12 @@ class FpaProblem {
 
   static std::vector<std::string> quantity_names();
   PointEvaluator profile_evaluator(double rho_g_h) const;
+
+  /// Fields for OUT/models.h5 at a point (names, units: docs/FORMAT.md), in the units and signs
+  /// of coarse/'s fields.h5 so that compare/ can put them beside the DEM's.
+  static std::vector<std::string> field_names();
+  static std::vector<std::string> field_units();
+  PointEvaluator field_evaluator(double rho_g_h) const;
   std::string output_results(const std::string& out_dir, double rho_g_h) const;
 
   const FpaResult& result() const { return result_; }

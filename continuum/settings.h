@@ -56,8 +56,8 @@ struct ContinuumSettings {
   bool has_mesh_table = false;
   double density_kg_per_m2 = 4100.0;   ///< bulk areal density (grains 5000 kg/m^2 at packing 0.82)
   double gravity_m_per_s2 = 9.81;
-  std::vector<double> profile_heights = {0.0, 0.1, 0.3, 0.5, 0.7};  ///< y / h
-  int profile_points = 101;            ///< points per horizontal cut, flank to flank
+  std::vector<double> profile_heights = {0.0, 0.1, 0.2, 0.3, 0.5, 0.7};  ///< y / h, as [coarse]
+  int profile_points = 61;             ///< points per horizontal cut, flank to flank, as [coarse]
   ElasticSettings elastic_model;
   FpaSettings fpa_model;
 };

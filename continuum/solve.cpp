@@ -1,6 +1,6 @@
 // `pilelab solve`: read the scene, find or make the mesh, solve each model the scene lists, and
 // write the fields, the profiles and the report section. Every rank runs this; rank 0 alone
-// writes the shared files (report.json, profiles.csv, pile.msh, the .pvtu record).
+// writes the shared files (report.json, profiles.csv, models.h5, pile.msh, the .pvtu record).
 #include "continuum/solve.h"
 
 #include <filesystem>
@@ -106,7 +106,9 @@ nlohmann::json run_solve(const SolveOptions& o) {
                            {"gravity_m_per_s2", s.gravity_m_per_s2},
                            {"rho_g_h_N_per_m", rho_g_h},
                            {"stress_sign", "compressive positive"}};
-  std::vector<ProfileRow> rows;
+  std::vector<ProfileValue> rows;
+  const std::vector<Point<2>> model_points = model_output_points(*tria);
+  std::vector<ModelFields> model_fields;
 
   if (s.elastic) {
     Timer timer;
@@ -117,6 +119,9 @@ nlohmann::json run_solve(const SolveOptions& o) {
     auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "elastic",
                                    ElasticProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
     rows.insert(rows.end(), profile.begin(), profile.end());
+    model_fields.push_back({"elastic", ElasticProblem::field_names(), ElasticProblem::field_units(),
+                            evaluate_at_points(model_points, ElasticProblem::field_names().size(),
+                                               problem.field_evaluator(rho_g_h), comm)});
     const double wall = timer.wall_time();
     pcout << "elastic: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
           << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
@@ -148,6 +153,9 @@ nlohmann::json run_solve(const SolveOptions& o) {
     auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "fpa",
                                    FpaProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
     rows.insert(rows.end(), profile.begin(), profile.end());
+    model_fields.push_back({"fpa", FpaProblem::field_names(), FpaProblem::field_units(),
+                            evaluate_at_points(model_points, FpaProblem::field_names().size(),
+                                               problem.field_evaluator(rho_g_h), comm)});
     const double wall = timer.wall_time();
     pcout << "fpa: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
           << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
@@ -171,7 +179,8 @@ nlohmann::json run_solve(const SolveOptions& o) {
   }
   report["wall_time_s"] = total.wall_time();
   on_rank0(comm, [&] {
-    write_profiles_csv((fs::path(o.out_dir) / "profiles.csv").string(), rows);
+    write_profile_values((fs::path(o.out_dir) / "profiles.csv").string(), rows);
+    write_models_h5((fs::path(o.out_dir) / "models.h5").string(), model_points, model_fields, rho_g_h, pile.height_m);
     write_report_section((fs::path(o.out_dir) / "report.json").string(), "continuum", report);
   });
   return report;

@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "common/hdf5_file.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -93,7 +95,8 @@ TEST(SolveCommand, OneAndTwoRanksGiveTheSameAnswer) {
                      " solve " + (one / "scene.toml").string() + " -o " + two.string());
   ASSERT_EQ(r2.code, 0) << r2.output;
 
-  for (const char* f : {"elastic.vtu", "fpa.vtu", "profiles.csv", "report.json"}) EXPECT_TRUE(fs::exists(one / f)) << f;
+  for (const char* f : {"elastic.vtu", "fpa.vtu", "profiles.csv", "report.json", "models.h5"})
+    EXPECT_TRUE(fs::exists(one / f)) << f;
   for (const char* f : {"elastic.pvtu", "elastic_rank0.vtu", "elastic_rank1.vtu", "fpa.pvtu", "fpa_rank1.vtu"})
     EXPECT_TRUE(fs::exists(two / f)) << f;
 
@@ -115,6 +118,21 @@ TEST(SolveCommand, OneAndTwoRanksGiveTheSameAnswer) {
               worst_stress, worst_u);
   EXPECT_LT(worst_stress, 1e-7);
   EXPECT_LT(worst_u, 1e-7);
+
+  // models.h5: the same fields at the same points, finite everywhere (every point is a mesh
+  // vertex or a cell centre, so inside the mesh).
+  const auto ma = pilelab::H5File::open_read((one / "models.h5").string());
+  const auto mb = pilelab::H5File::open_read((two / "models.h5").string());
+  const double rho_g_h = 4100 * 9.81 * 0.33;
+  for (const char* path : {"/elastic/stress_yy", "/fpa/stress_yy", "/fpa/stress_xy", "/elastic/displacement_y"}) {
+    const auto va = ma.read_doubles(path), vb = mb.read_doubles(path);
+    ASSERT_EQ(va.size(), vb.size()) << path;
+    const double scale = std::string(path).find("displacement") != std::string::npos ? u_max : rho_g_h;
+    for (std::size_t i = 0; i < va.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(va[i])) << path << " point " << i;
+      ASSERT_NEAR(va[i], vb[i], 1e-7 * scale) << path << " point " << i;
+    }
+  }
 
   const auto ja = nlohmann::json::parse(std::ifstream(one / "report.json"))["continuum"];
   const auto jb = nlohmann::json::parse(std::ifstream(two / "report.json"))["continuum"];

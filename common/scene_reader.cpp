@@ -151,6 +151,14 @@ std::vector<std::string> SceneReader::get_string_list(std::string_view key,
   return out;
 }
 
+std::string SceneReader::table_text(std::string_view table) const {
+  const toml::node* n = root_.get(table);
+  if (!n || !n->is_table()) return "";
+  std::ostringstream out;
+  out << *n->as_table();
+  return out.str();
+}
+
 namespace {
 void collect_leaves(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
   for (const auto& [k, v] : t) {

@@ -37,6 +37,9 @@ class SceneReader {
 
   /// Keys are dotted paths, e.g. "dem.contact.friction_mu".
   bool has(std::string_view key) const;
+  /// A top-level table in canonical TOML (empty if the scene has no such table): what a stage
+  /// depends on, for deciding whether its outputs are stale.
+  std::string table_text(std::string_view table) const;
   double get_double(std::string_view key, double fallback, Range range);
   double require_double(std::string_view key, Range range);
   std::int64_t get_int(std::string_view key, std::int64_t fallback, std::int64_t lo, std::int64_t hi);

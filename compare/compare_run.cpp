@@ -174,8 +174,22 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   // DEM against each model.
   nlohmann::json models = nlohmann::json::object();
   if (std::filesystem::exists(models_path)) {
+    // Stresses are compared in units of each source's own rho g h: the DEM's bulk density and
+    // height against the model's, so a model loaded with another density compares by shape
+    // (elastic stresses under gravity are proportional to rho g h).
+    const double dem_scale = fields_file.attribute_double("/", "rho_bulk_kg_per_m2") *
+                             fields_file.attribute_double("/", "gravity_m_per_s2") * height;
+    double model_scale = dem_scale;
+    try {
+      model_scale = H5File::open_read(models_path).attribute_double("/", "rho_g_h_N_per_m");
+    } catch (const InputError&) {
+    }
+    section["stress_scale_dem_over_model"] = dem_scale / model_scale;
     for (const std::string& name : model_names(models_path)) {
-      const PointFields raw = read_model_fields(models_path, name);
+      PointFields raw = read_model_fields(models_path, name);
+      for (const char* c : {"stress_xx", "stress_yy", "stress_xy"})
+        if (raw.has(c))
+          for (double& v : raw.values[c]) v *= dem_scale / model_scale;
       const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
       const PointFields model = reindex(raw, index, dem.points.size());
       nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int k) { return k >= 0; })}};
@@ -199,6 +213,11 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
                                       compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
         m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
         add_field(name + "_axis_angle_to_dem_deg", angle, ok);
+      }
+      for (const char* c : {"strain_xx", "strain_yy", "strain_xy"}) {
+        if (!model.has(c) || !dem.has(c)) continue;
+        m[std::string("relative_l2_") + c] =
+            l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
       }
       if (model.has("displacement_x") && dem.has("displacement_x")) {
         // || u_model - u_dem || / || u_dem || over both components.

@@ -173,6 +173,7 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
 
   // DEM against each model.
   nlohmann::json models = nlohmann::json::object();
+  section["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
     // Stresses are compared in units of each source's own rho g h: the DEM's bulk density and
     // height against the model's, so a model loaded with another density compares by shape

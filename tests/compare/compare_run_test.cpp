@@ -1,0 +1,120 @@
+// compare/ on synthetic files: a field made from a known elastic law is fitted back to its
+// constants through fields.h5; a model identical to the DEM differs from it by zero.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "common/hdf5_file.h"
+#include "common/report.h"
+#include "compare/compare_run.h"
+
+using namespace pilelab;
+
+namespace {
+
+struct Synthetic {
+  std::vector<double> xy;                 // node coordinates
+  std::vector<std::int64_t> triangles;
+  std::map<std::string, std::vector<double>> fields;
+};
+
+// A square [-0.5, 0.5] x [0, 1] (n x n cells): strain varying in space, the stress change of
+// plane-strain isotropic elasticity (lambda, mu), a gravity stress, an isotropic fabric.
+Synthetic elastic_field(double lambda, double mu, int n = 24) {
+  Synthetic s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.xy.insert(s.xy.end(), {-0.5 + double(i) / n, double(j) / n});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::int64_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      s.triangles.insert(s.triangles.end(), {a, b, c, a, c, d});
+    }
+  const std::size_t k = s.xy.size() / 2;
+  auto& f = s.fields;
+  for (const char* q : {"strain_xx", "strain_yy", "strain_xy", "stress_change_xx", "stress_change_yy",
+                        "stress_change_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure", "stress_xx",
+                        "stress_yy", "stress_xy", "stress_orientation_deg"})
+    f[q].resize(k);
+  for (std::size_t p = 0; p < k; ++p) {
+    const double x = s.xy[2 * p], y = s.xy[2 * p + 1];
+    const double exx = 1e-4 * (1 + x), eyy = 2e-4 * (1 - 0.5 * y), exy = 0.5e-4 * x * y;
+    f["strain_xx"][p] = exx, f["strain_yy"][p] = eyy, f["strain_xy"][p] = exy;
+    f["stress_change_xx"][p] = lambda * (exx + eyy) + 2 * mu * exx;
+    f["stress_change_yy"][p] = lambda * (exx + eyy) + 2 * mu * eyy;
+    f["stress_change_xy"][p] = 2 * mu * exy;
+    f["fabric_xx"][p] = 1.5, f["fabric_yy"][p] = 1.5, f["fabric_xy"][p] = 0.0;
+    f["stress_yy"][p] = -1000 * (1 - y), f["stress_xx"][p] = -400 * (1 - y), f["stress_xy"][p] = 0.0;
+    f["pressure"][p] = 700 * (1 - y);
+    f["stress_orientation_deg"][p] = 90.0;
+  }
+  return s;
+}
+
+void write_fields(const std::string& path, const Synthetic& s) {
+  H5File h = H5File::create(path);
+  h.set_attribute("/", "format", std::string("pilelab-fields"));
+  h.set_attribute("/", "rve_radius_m", 0.1);
+  h.set_attribute("/", "height_m", 1.0);
+  h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
+  h.set_attribute("/", "gravity_m_per_s2", 9.81);
+  const std::uint64_t k = s.xy.size() / 2;
+  h.write("/mesh/nodes", s.xy, {k, 2}, "m");
+  h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
+  h.write("/fields/points", s.xy, {k, 2}, "m");
+  h.set_attribute("/fields", "location", std::string("nodes"));
+  for (const auto& [name, v] : s.fields) {
+    h.write("/fields/" + name, v);
+    h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), 1));
+  }
+}
+
+std::string temp_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+}  // namespace
+
+TEST(CompareRun, ElasticFieldIsFittedBackToItsConstants) {
+  const std::string dir = temp_dir("pilelab_fit_run");
+  const double lambda = 3.0e6, mu = 1.2e6;
+  write_fields(dir + "/fields.h5", elastic_field(lambda, mu));
+  compare::FitOptions opt;
+  opt.fields_path = dir + "/fields.h5";
+  opt.out_dir = dir;
+  opt.resamples = 20;
+  const auto fit = compare::run_fit(opt);
+  const auto& iso = fit["models"]["isotropic"];
+  EXPECT_NEAR(iso["lambda_N_per_m"].get<double>(), lambda, 1e-8 * lambda);
+  EXPECT_NEAR(iso["mu_N_per_m"].get<double>(), mu, 1e-8 * mu);
+  EXPECT_NEAR(iso["r2"].get<double>(), 1.0, 1e-12);
+  EXPECT_GE(fit["samples"].get<int>(), 50);  // thinned to 0.1 m on a unit square
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CompareRun, IdenticalModelDiffersByZero) {
+  const std::string dir = temp_dir("pilelab_compare_run");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  {
+    H5File m = H5File::create(dir + "/models.h5");
+    m.set_attribute("/", "rho_g_h_N_per_m", 1000.0);
+    m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
+    for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "strain_xx", "strain_yy", "strain_xy"})
+      m.write(std::string("/same/") + q, s.fields.at(q));
+  }
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto& same = c["models"]["same"];
+  EXPECT_EQ(same["matched_points"].get<int>(), static_cast<int>(s.xy.size() / 2));
+  for (const char* q : {"relative_l2_stress_xx", "relative_l2_stress_yy", "relative_l2_strain_xx", "relative_l2_strain_yy",
+                        "relative_l2_lower_half_stress_yy"})
+    EXPECT_EQ(same[q].get<double>(), 0.0) << q;
+  EXPECT_EQ(same["principal_axis_angle_mean_deg"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(c["stress_scale_dem_over_model"].get<double>(), 1.0);
+  std::filesystem::remove_all(dir);
+}

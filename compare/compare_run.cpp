@@ -5,7 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <sstream>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/hdf5_file.h"
 #include "common/profiles_csv.h"
@@ -107,6 +109,30 @@ nlohmann::json fit_section(const PointFields& dem, double spacing, int resamples
   return section;
 }
 
+// OUT/fit_samples.csv: each sample's measured stress change beside every model's prediction.
+void write_fit_samples(const std::string& path, const std::vector<FitSample>& samples, const std::vector<FitResult>& fits) {
+  double p_mean = 0;
+  for (const auto& s : samples) p_mean += s.pressure / std::max<std::size_t>(samples.size(), 1);
+  std::ostringstream out;
+  out << "x_m,y_m,component,measured_N_per_m";
+  for (const auto& f : fits)
+    if (f.ok) out << ',' << f.name << "_N_per_m";
+  out << '\n';
+  const char* names[] = {"xx", "yy", "xy"};
+  for (const auto& s : samples) {
+    std::vector<Tensor> predicted;
+    for (const auto& f : fits)
+      if (f.ok) predicted.push_back(predict(f, s, f.model == FitModel::pressure_dependent ? f.parameters[3] : p_mean));
+    for (int c = 0; c < 3; ++c) {
+      const int i = c == 1 ? 1 : 0, j = c == 0 ? 0 : 1;
+      out << s.point.x() << ',' << s.point.y() << ',' << names[c] << ',' << s.stress_change(i, j);
+      for (const Tensor& t : predicted) out << ',' << t(i, j);
+      out << '\n';
+    }
+  }
+  write_text_atomically(path, out.str());
+}
+
 }  // namespace
 
 nlohmann::json run_fit(const FitOptions& opt) {
@@ -116,7 +142,10 @@ nlohmann::json run_fit(const FitOptions& opt) {
   if (spacing <= 0) spacing = H5File::open_read(opt.fields_path).attribute_double("/", "rve_radius_m");
   if (!(spacing > 0)) spacing = 0.01;
   std::filesystem::create_directories(opt.out_dir);
-  const nlohmann::json section = fit_section(dem, spacing, opt.resamples, opt.folds, opt.seed, nullptr, nullptr);
+  std::vector<FitSample> samples;
+  std::vector<FitResult> fits;
+  const nlohmann::json section = fit_section(dem, spacing, opt.resamples, opt.folds, opt.seed, &samples, &fits);
+  write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
   write_report_section(in_dir(opt.out_dir, "report.json"), "fit", section);
   return section;
 }
@@ -320,7 +349,10 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
 
   // Stress-strain fits, when the DEM has strains.
   if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
-    const nlohmann::json fit = fit_section(dem, spacing, resamples, folds, seed, nullptr, nullptr);
+    std::vector<FitSample> samples;
+    std::vector<FitResult> fits;
+    const nlohmann::json fit = fit_section(dem, spacing, resamples, folds, seed, &samples, &fits);
+    write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
     write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
   }
 

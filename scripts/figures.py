@@ -229,6 +229,35 @@ def rve_figure(out):
     save(fig, out, "rve_convergence.png")
 
 
+def fit_figure(out, report):
+    path = os.path.join(out, "fit_samples.csv")
+    if not os.path.exists(path):
+        return
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    models = [k[:-len("_N_per_m")] for k in rows[0] if k.endswith("_N_per_m") and k != "measured_N_per_m"] if rows else []
+    if not models:
+        return
+    fig, axes = plt.subplots(1, len(models), figsize=(4.2 * len(models), 4), squeeze=False, layout="constrained")
+    fits = report.get("fit", {}).get("models", {})
+    for ax, m in zip(axes[0], models):
+        for comp, c in (("xx", "tab:blue"), ("yy", "tab:red"), ("xy", "tab:green")):
+            pts = [(float(r["measured_N_per_m"]), float(r[m + "_N_per_m"])) for r in rows if r["component"] == comp]
+            if pts:
+                x, y = zip(*pts)
+                ax.scatter(x, y, s=8, color=c, label=r"$\Delta\sigma_{%s}$" % comp)
+        lo = min(float(r["measured_N_per_m"]) for r in rows)
+        hi = max(float(r["measured_N_per_m"]) for r in rows)
+        ax.plot([lo, hi], [lo, hi], color="0.5", lw=0.8)
+        info = fits.get(m, {})
+        ax.set_title(f"{m}: R$^2$ = {info.get('r2', float('nan')):.2f}, AIC = {info.get('aic', float('nan')):.0f}", fontsize=9)
+        ax.set_xlabel("DEM stress change [N/m]")
+        ax.set_ylabel("fitted model [N/m]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    save(fig, out, "fit_scatter.png")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: /usr/bin/python3 scripts/figures.py OUT")
@@ -238,6 +267,7 @@ def main():
     pile_figures(out, report)
     profile_figures(out, read_profiles(out))
     rve_figure(out)
+    fit_figure(out, report)
 
 
 if __name__ == "__main__":

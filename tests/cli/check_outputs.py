@@ -42,7 +42,7 @@ for name in ("profiles.csv", "rve_study.csv"):
             check({"elastic", "fpa"} <= sources, f"profiles.csv: model rows missing, sources {sources}")
 figures = os.path.join(out, "figures")
 for png in ("pile_pressure.png", "force_network.png", "base_pressure.png", "sigma_yy_profiles.png",
-            "orientations.png", "rve_convergence.png"):
+            "orientations.png", "rve_convergence.png", "fit_scatter.png"):
     check(os.path.getsize(os.path.join(figures, png)) > 1000, f"figures/{png} missing or empty")
 
 # report.json has every documented key of each section.

@@ -9,8 +9,6 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -112,12 +110,7 @@ void ElasticProblem::setup_system() {
   }
   constraints_.close();
 
-  DynamicSparsityPattern dsp(relevant_);
-  DoFTools::make_sparsity_pattern(dof_handler_, dsp, constraints_, false);
-  SparsityTools::distribute_sparsity_pattern(dsp, owned_, comm_, relevant_);
-  system_matrix_.reinit(owned_, owned_, dsp, comm_);
-  system_rhs_.reinit(owned_, comm_);
-  solution_.reinit(owned_, relevant_, comm_);
+  reinit_linear_system(dof_handler_, constraints_, owned_, relevant_, system_matrix_, system_rhs_, solution_);
   cache_ = std::make_unique<GridTools::Cache<2>>(tria_, mapping);
 }
 
@@ -281,32 +274,6 @@ bool ElasticProblem::stress_at(const Point<2>& p, Stress2& stress_out, Tensor<1,
   strain_out = eps[0];
   stress_out = Stress2::from_tension_positive(stress(eps[0]));
   return true;
-}
-
-std::vector<std::string> ElasticProblem::quantity_names() {
-  return {"sigma_xx",          "sigma_yy",          "sigma_xy",         "pressure",
-          "stress_anisotropy", "stress_orientation_deg", "displacement_x", "displacement_y",
-          "strain_xx",         "strain_yy",         "strain_xy",        "stress_change_xx",
-          "stress_change_yy",  "stress_change_xy"};
-}
-
-PointEvaluator ElasticProblem::profile_evaluator(double rho_g_h) const {
-  const double change = settings_.gravity_change;
-  return [this, rho_g_h, change](const Point<2>& p, std::vector<double>& v) {
-    Stress2 s;
-    Tensor<1, 2> u;
-    SymmetricTensor<2, 2> eps;
-    if (!stress_at(p, s, u, eps)) return false;
-    const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
-    // Stresses of the full load, normalised and compressive positive; displacement, strain
-    // (extension positive) and stress increment (N/m, tension positive) of the gravity change,
-    // which the DEM relaxation measures: by linearity the change of g times the full fields.
-    v = {s.xx / rho_g_h,   s.yy / rho_g_h,     s.xy / rho_g_h,       0.5 * (s.xx + s.yy) / rho_g_h,
-         pr.anisotropy,    pr.orientation_deg, change * u[0],        change * u[1],
-         change * eps[0][0], change * eps[1][1], change * eps[0][1], -change * s.xx,
-         -change * s.yy,   -change * s.xy};
-    return true;
-  };
 }
 
 std::vector<std::string> ElasticProblem::field_names() {

@@ -66,10 +66,6 @@ class ElasticProblem {
   bool stress_at(const dealii::Point<2>& p, Stress2& stress, dealii::Tensor<1, 2>& u,
                  dealii::SymmetricTensor<2, 2>& strain) const;
 
-  /// Quantities for profiles.csv at a point (see quantity_names()).
-  static std::vector<std::string> quantity_names();
-  PointEvaluator profile_evaluator(double rho_g_h) const;
-
   /// Fields for OUT/models.h5 at a point (names, units: docs/FORMAT.md), in the units and signs
   /// of coarse/'s fields.h5 so that compare/ can put them beside the DEM's.
   static std::vector<std::string> field_names();

@@ -77,9 +77,27 @@ std::pair<double, double> width_at(const Triangulation<2>& tria, double y0) {
 
 std::vector<ProfileValue> sample_profiles(const Triangulation<2>& tria, const PileGeometry& pile,
                                         const std::vector<double>& heights, int n_points, const std::string& source,
-                                        const std::vector<std::string>& quantities, const PointEvaluator& evaluate,
-                                        MPI_Comm comm) {
-  const std::size_t nq = quantities.size();
+                                        const std::vector<std::string>& field_names, const PointEvaluator& fields,
+                                        double rho_g_h, MPI_Comm comm) {
+  // Which fields become which profile quantity, and with which factor.
+  std::vector<std::string> names;
+  std::vector<double> factor;
+  for (const std::string& f : field_names) {
+    if (f.rfind("principal_stress", 0) == 0) {
+      names.emplace_back();
+      factor.push_back(0.0);
+    } else if (f.rfind("stress_", 0) == 0 && f.size() == 9 && f.find_first_of("xy", 7) == 7) {
+      names.push_back("sigma_" + f.substr(7));  // stress_xx -> sigma_xx, compression positive
+      factor.push_back(-1.0 / rho_g_h);
+    } else if (f == "pressure") {
+      names.push_back(f);
+      factor.push_back(1.0 / rho_g_h);
+    } else {
+      names.push_back(f);
+      factor.push_back(1.0);
+    }
+  }
+  const std::size_t nq = field_names.size();
   std::vector<ProfileValue> rows;
   for (const double eta : heights) {
     const double y = eta * pile.height_m;
@@ -88,10 +106,11 @@ std::vector<ProfileValue> sample_profiles(const Triangulation<2>& tria, const Pi
     const std::vector<double> xs = profile_points(x0, x1, n_points);
     std::vector<Point<2>> points;
     for (double x : xs) points.emplace_back(x, y);
-    const auto values = evaluate_at_points(points, nq, evaluate, comm);
+    const auto values = evaluate_at_points(points, nq, fields, comm);
     for (int i = 0; i < n_points; ++i) {
       if (std::isnan(values[0][i])) continue;  // outside the mesh (a notch in the outline): no row
-      for (std::size_t q = 0; q < nq; ++q) rows.push_back({source, quantities[q], eta, xs[i], values[q][i], 0.0, false});
+      for (std::size_t q = 0; q < nq; ++q)
+        if (!names[q].empty()) rows.push_back({source, names[q], eta, xs[i], factor[q] * values[q][i], 0.0, false});
     }
   }
   return rows;

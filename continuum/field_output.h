@@ -24,13 +24,16 @@ std::string write_vtu(const dealii::DataOut<2>& data_out, const std::string& out
 /// this rank (exactly one rank owns it, so the gathered result does not depend on the ranks).
 using PointEvaluator = std::function<bool(const dealii::Point<2>&, std::vector<double>& values)>;
 
-/// Samples `quantities` along horizontal cuts at the given heights (fractions of the pile height)
-/// at n_points points across the width of the domain at that height (pilelab::profile_points:
-/// cell-centred, as coarse/ samples the DEM). Collective; every rank gets all rows.
+/// Samples a model's fields (named as in models.h5) along horizontal cuts at the given heights
+/// (fractions of the pile height), at n_points points across the width of the domain there
+/// (pilelab::profile_points: cell-centred, as coarse/ samples the DEM), and turns them into
+/// profile rows the way coarse/ does: stress_Q becomes sigma_Q = -stress_Q / (rho g h), pressure
+/// is divided by rho g h (compression positive), principal stresses are left out, every other
+/// field is kept as it is. Collective; every rank gets all rows.
 std::vector<ProfileValue> sample_profiles(const dealii::Triangulation<2>& tria, const PileGeometry& pile,
                                         const std::vector<double>& heights, int n_points, const std::string& source,
-                                        const std::vector<std::string>& quantities, const PointEvaluator& evaluate,
-                                        MPI_Comm comm);
+                                        const std::vector<std::string>& field_names, const PointEvaluator& fields,
+                                        double rho_g_h, MPI_Comm comm);
 
 /// Evaluates n_values quantities at every point (collective). values[q][i]; NaN where no rank
 /// owns a cell containing point i (outside the mesh).

@@ -8,8 +8,6 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -73,12 +71,7 @@ void FpaProblem::setup_system() {
                                                  constraints_);
   constraints_.close();
 
-  DynamicSparsityPattern dsp(relevant_);
-  DoFTools::make_sparsity_pattern(dof_handler_, dsp, constraints_, false);
-  SparsityTools::distribute_sparsity_pattern(dsp, owned_, comm_, relevant_);
-  system_matrix_.reinit(owned_, owned_, dsp, comm_);
-  system_rhs_.reinit(owned_, comm_);
-  solution_.reinit(owned_, relevant_, comm_);
+  reinit_linear_system(dof_handler_, constraints_, owned_, relevant_, system_matrix_, system_rhs_, solution_);
   cache_ = std::make_unique<GridTools::Cache<2>>(tria_, simplex_mapping());
 }
 
@@ -242,21 +235,6 @@ double FpaProblem::stress_error(const std::function<Stress2(const Point<2>&)>& e
     }
   }
   return std::sqrt(Utilities::MPI::sum(e2, comm_));
-}
-
-std::vector<std::string> FpaProblem::quantity_names() {
-  return {"sigma_xx", "sigma_yy", "sigma_xy", "pressure", "stress_anisotropy", "stress_orientation_deg"};
-}
-
-PointEvaluator FpaProblem::profile_evaluator(double rho_g_h) const {
-  return [this, rho_g_h](const Point<2>& p, std::vector<double>& v) {
-    Stress2 s;
-    if (!stress_at(p, s)) return false;
-    const Principal pr = principal_stress(s, 1e-9 * rho_g_h);
-    v = {s.xx / rho_g_h, s.yy / rho_g_h, s.xy / rho_g_h, 0.5 * (s.xx + s.yy) / rho_g_h, pr.anisotropy,
-         pr.orientation_deg};
-    return true;
-  };
 }
 
 std::vector<std::string> FpaProblem::field_names() {

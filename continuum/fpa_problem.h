@@ -66,9 +66,6 @@ class FpaProblem {
   /// L2 error of the whole stress tensor (xx, yy, xy) over the domain.
   double stress_error(const std::function<Stress2(const dealii::Point<2>&)>& exact) const;
 
-  static std::vector<std::string> quantity_names();
-  PointEvaluator profile_evaluator(double rho_g_h) const;
-
   /// Fields for OUT/models.h5 at a point (names, units: docs/FORMAT.md), in the units and signs
   /// of coarse/'s fields.h5 so that compare/ can put them beside the DEM's.
   static std::vector<std::string> field_names();

@@ -4,6 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
 #include <petscksp.h>
 #include <petscmat.h>
 
@@ -76,6 +79,18 @@ MatNullSpace configure_cg_gamg(KSP ksp, PC pc, Mat mat, std::vector<PETScWrapper
 }
 
 }  // namespace
+
+void reinit_linear_system(const DoFHandler<2>& dof_handler, const AffineConstraints<double>& constraints,
+                          const IndexSet& owned, const IndexSet& relevant, PETScWrappers::MPI::SparseMatrix& matrix,
+                          PETScWrappers::MPI::Vector& rhs, PETScWrappers::MPI::Vector& solution) {
+  const MPI_Comm comm = dof_handler.get_triangulation().get_communicator();
+  DynamicSparsityPattern dsp(relevant);
+  DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+  SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
+  matrix.reinit(owned, owned, dsp, comm);
+  rhs.reinit(owned, comm);
+  solution.reinit(owned, relevant, comm);
+}
 
 SolveStats solve_spd(const PETScWrappers::MPI::SparseMatrix& A, PETScWrappers::MPI::Vector& x,
                      const PETScWrappers::MPI::Vector& b, std::vector<PETScWrappers::MPI::Vector> near_null_space,

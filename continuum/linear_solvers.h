@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
@@ -17,6 +19,14 @@ struct SolveStats {
   unsigned iterations = 0;       ///< CG iterations; 1 for the direct solver
   double relative_residual = 0;  ///< |b - A x| / |b| on return
 };
+
+/// Sizes the distributed system of dof_handler: the sparsity pattern (constraints eliminated)
+/// from the locally relevant dofs, exchanged between ranks; rhs on the owned dofs; solution
+/// ghosted (owned plus relevant), for evaluation and output.
+void reinit_linear_system(const dealii::DoFHandler<2>& dof_handler, const dealii::AffineConstraints<double>& constraints,
+                          const dealii::IndexSet& owned, const dealii::IndexSet& relevant,
+                          dealii::PETScWrappers::MPI::SparseMatrix& matrix, dealii::PETScWrappers::MPI::Vector& rhs,
+                          dealii::PETScWrappers::MPI::Vector& solution);
 
 /// Solves A x = b. near_null_space: vectors spanning the kernel of the unconstrained operator
 /// (for elasticity the rigid-body modes), handed to GAMG so that its coarse spaces represent

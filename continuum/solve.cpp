@@ -75,6 +75,50 @@ nlohmann::json solver_json(const SolverSettings& s, const SolveStats& st) {
           {"relative_residual", st.relative_residual}};
 }
 
+// What the models share on the way out, and what they add to it.
+struct Outputs {
+  const std::string& out_dir;
+  const Triangulation2& tria;
+  const PileGeometry& pile;
+  const ContinuumSettings& settings;
+  double rho_g_h;
+  std::vector<Point<2>> points;          ///< where models.h5 has the fields
+  std::vector<ModelFields> fields;       ///< per model, for models.h5
+  std::vector<ProfileValue> profile_rows;
+  MPI_Comm comm;
+  ConditionalOStream& pcout;
+};
+
+// One model, the same way for each: solve (run() is setup, assembly, solve), write its VTU, sample
+// its profiles and its fields at the output points, and report what every model reports.
+template <class Problem>
+nlohmann::json solve_model(Problem& problem, const std::string& name, const SolverSettings& solver, Outputs& out) {
+  Timer timer;
+  const auto& r = problem.run();
+  const std::string file = problem.output_results(out.out_dir, out.rho_g_h);
+  const auto names = Problem::field_names();
+  const PointEvaluator fields = problem.field_evaluator(out.rho_g_h);
+  const auto rows = sample_profiles(out.tria, out.pile, out.settings.profile_heights, out.settings.profile_points,
+                                    name, names, fields, out.rho_g_h, out.comm);
+  out.profile_rows.insert(out.profile_rows.end(), rows.begin(), rows.end());
+  out.fields.push_back({name, names, Problem::field_units(), evaluate_at_points(out.points, names.size(), fields, out.comm)});
+  const double wall = timer.wall_time();
+  out.pcout << name << ": " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
+            << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
+  return {{"dofs", r.n_dofs},
+          {"linear_solver", solver_json(solver, r.solver)},
+          {"iterations", r.solver.iterations},
+          {"setup_s", r.setup_s},
+          {"assemble_s", r.assemble_s},
+          {"solve_s", r.solve_s},
+          {"wall_time_s", wall},
+          {"weight_N", r.weight},
+          {"base_force_N", r.base_force_N},
+          {"base_force_over_weight", r.base_force_N / r.weight},
+          {"base_shear_over_weight", r.base_shear_force / r.weight},
+          {"file", fs::path(file).filename().string()}};
+}
+
 }  // namespace
 
 nlohmann::json run_solve(const SolveOptions& o) {
@@ -106,81 +150,34 @@ nlohmann::json run_solve(const SolveOptions& o) {
                            {"gravity_m_per_s2", s.gravity_m_per_s2},
                            {"rho_g_h_N_per_m", rho_g_h},
                            {"stress_sign", "compressive positive"}};
-  std::vector<ProfileValue> rows;
-  const std::vector<Point<2>> model_points = model_output_points(*tria);
-  std::vector<ModelFields> model_fields;
-
+  Outputs outputs{o.out_dir, *tria, pile, s, rho_g_h, model_output_points(*tria), {}, {}, comm, pcout};
   if (s.elastic) {
-    Timer timer;
     const ElasticSettings& e = s.elastic_model;
     ElasticProblem problem(*tria, e, s.density_kg_per_m2, s.gravity_m_per_s2);
-    const ElasticResult& r = problem.run();
-    const std::string file = problem.output_results(o.out_dir, rho_g_h);
-    auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "elastic",
-                                   ElasticProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
-    rows.insert(rows.end(), profile.begin(), profile.end());
-    model_fields.push_back({"elastic", ElasticProblem::field_names(), ElasticProblem::field_units(),
-                            evaluate_at_points(model_points, ElasticProblem::field_names().size(),
-                                               problem.field_evaluator(rho_g_h), comm)});
-    const double wall = timer.wall_time();
-    pcout << "elastic: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
-          << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
-    report["elastic"] = {{"dofs", r.n_dofs},
-                         {"degree", e.degree},
-                         {"plane", e.plane == ElasticSettings::Plane::strain ? "strain" : "stress"},
-                         {"base", e.base == ElasticSettings::Base::rough ? "rough" : "smooth"},
-                         {"youngs_modulus_N_per_m", e.youngs_modulus_N_per_m},
-                         {"poisson_ratio", e.poisson_ratio},
-                         {"gravity_change", e.gravity_change},
-                         {"linear_solver", solver_json(e.solver, r.solver)},
-                         {"iterations", r.solver.iterations},
-                         {"setup_s", r.setup_s},
-                         {"assemble_s", r.assemble_s},
-                         {"solve_s", r.solve_s},
-                         {"wall_time_s", wall},
-                         {"weight_N", r.weight},
-                         {"base_force_N", r.base_force_N},
-                         {"base_force_over_weight", r.base_force_N / r.weight},
-                         {"base_shear_over_weight", r.base_shear_force / r.weight},
-                         {"file", fs::path(file).filename().string()}};
+    nlohmann::json& j = report["elastic"] = solve_model(problem, "elastic", e.solver, outputs);
+    j["degree"] = e.degree;
+    j["plane"] = e.plane == ElasticSettings::Plane::strain ? "strain" : "stress";
+    j["base"] = e.base == ElasticSettings::Base::rough ? "rough" : "smooth";
+    j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
+    j["poisson_ratio"] = e.poisson_ratio;
+    j["gravity_change"] = e.gravity_change;
   }
   if (s.fpa) {
-    Timer timer;
     const FpaSettings& f = s.fpa_model;
     FpaProblem problem(*tria, f, s.density_kg_per_m2, s.gravity_m_per_s2, pile.apex_x_m);
-    const FpaResult& r = problem.run();
-    const std::string file = problem.output_results(o.out_dir, rho_g_h);
-    auto profile = sample_profiles(*tria, pile, s.profile_heights, s.profile_points, "fpa",
-                                   FpaProblem::quantity_names(), problem.profile_evaluator(rho_g_h), comm);
-    rows.insert(rows.end(), profile.begin(), profile.end());
-    model_fields.push_back({"fpa", FpaProblem::field_names(), FpaProblem::field_units(),
-                            evaluate_at_points(model_points, FpaProblem::field_names().size(),
-                                               problem.field_evaluator(rho_g_h), comm)});
-    const double wall = timer.wall_time();
-    pcout << "fpa: " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
-          << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";
-    report["fpa"] = {{"dofs", r.n_dofs},
-                     {"degree", f.degree},
-                     {"left_repose_angle_deg", f.left_repose_angle_deg},
-                     {"right_repose_angle_deg", f.right_repose_angle_deg},
-                     {"surface", f.surface == FpaSettings::Surface::strong ? "strong" : "weak"},
-                     {"linear_solver", solver_json(f.solver, r.solver)},
-                     {"iterations", r.solver.iterations},
-                     {"setup_s", r.setup_s},
-                     {"assemble_s", r.assemble_s},
-                     {"solve_s", r.solve_s},
-                     {"wall_time_s", wall},
-                     {"weight_N", r.weight},
-                     {"base_force_N", r.base_force_N},
-                     {"base_force_over_weight", r.base_force_N / r.weight},
-                     {"base_shear_over_weight", r.base_shear_force / r.weight},
-                     {"equilibrium_residual_over_weight", r.residual_norm * std::sqrt(pile.area_m2) / r.weight},
-                     {"file", fs::path(file).filename().string()}};
+    nlohmann::json& j = report["fpa"] = solve_model(problem, "fpa", f.solver, outputs);
+    j["degree"] = f.degree;
+    j["left_repose_angle_deg"] = f.left_repose_angle_deg;
+    j["right_repose_angle_deg"] = f.right_repose_angle_deg;
+    j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
+    j["equilibrium_residual_over_weight"] =
+        problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
   }
   report["wall_time_s"] = total.wall_time();
   on_rank0(comm, [&] {
-    write_profile_values((fs::path(o.out_dir) / "profiles.csv").string(), rows);
-    write_models_h5((fs::path(o.out_dir) / "models.h5").string(), model_points, model_fields, rho_g_h, pile.height_m);
+    write_profile_values((fs::path(o.out_dir) / "profiles.csv").string(), outputs.profile_rows);
+    write_models_h5((fs::path(o.out_dir) / "models.h5").string(), outputs.points, outputs.fields, rho_g_h,
+                    pile.height_m);
     write_report_section((fs::path(o.out_dir) / "report.json").string(), "continuum", report);
   });
   return report;

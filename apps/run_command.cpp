@@ -11,11 +11,13 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "apps/commands.h"
 #include "coarse/coarse_run.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/report.h"
 #include "common/scene_reader.h"
 #include "compare/compare_run.h"
 #include "dem/pile_run.h"
@@ -58,6 +60,91 @@ struct Stage {
   std::function<void()> run;
 };
 
+#ifdef PILELAB_WITH_CONTINUUM
+// Absolute form of a path key of a table (the derived scenes live in OUT/, not beside the scene).
+void make_absolute(toml::table& root, const char* table, const char* key, const std::string& scene_dir) {
+  toml::table* t = root[table].as_table();
+  if (!t) return;
+  if (auto v = (*t)[key].value<std::string>(); v && !v->empty() && std::filesystem::path(*v).is_relative())
+    t->insert_or_assign(key, (std::filesystem::path(scene_dir) / *v).string());
+}
+
+// The scene for the solve stage: the user's, with what the DEM measured filled in where the
+// [continuum] table leaves it open: the bulk density of the pile (coarse) and its repose
+// angles (dem), so the models carry the same load and closure as the pile they are compared to.
+std::string solve_scene(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report) {
+  toml::table root = toml::parse_file(scene_path);
+  const std::string scene_dir = std::filesystem::path(scene_path).parent_path().string();
+  make_absolute(root, "continuum", "mesh_file", scene_dir);
+  make_absolute(root, "mesh", "dem_file", scene_dir);
+  if (!root["continuum"].as_table()) root.insert("continuum", toml::table{});
+  toml::table& c = *root["continuum"].as_table();
+  if (!c.contains("density_kg_per_m2") && report.contains("coarse"))
+    c.insert("density_kg_per_m2", report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+  if (report.contains("dem")) {
+    const auto& d = report["dem"];
+    const bool measured = d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number();
+    if (!c["fpa"].as_table()) c.insert("fpa", toml::table{});
+    toml::table& f = *c["fpa"].as_table();
+    if (measured && !f.contains("repose_angle_deg") && !f.contains("left_repose_angle_deg")) {
+      const double l = d["repose_angle_left_deg"].get<double>(), r = d["repose_angle_right_deg"].get<double>();
+      if (l > 0 && l < 45 && r > 0 && r < 45) {
+        f.insert("left_repose_angle_deg", l);
+        f.insert("right_repose_angle_deg", r);
+      }
+    }
+  }
+  std::ostringstream text;
+  text << root;
+  const std::string path = (std::filesystem::path(out_dir) / "solve_scene.toml").string();
+  write_text_atomically(path, text.str() + "\n");
+  return path;
+}
+
+// The closed loop of the fit: the gravity change solved with the fitted isotropic constants,
+// its displacement and strain against the DEM's. The solver runs as a child process (MPI can
+// be initialised once per process, and the solve stage may already have done so).
+void closed_loop(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report) {
+  if (!report.contains("fit") || !report["fit"]["models"].contains("isotropic") || !report.contains("coarse")) return;
+  const auto& iso = report["fit"]["models"]["isotropic"];
+  const double lambda = iso["lambda_N_per_m"].get<double>(), mu = iso["mu_N_per_m"].get<double>();
+  const double nu = lambda / (2 * (lambda + mu));
+  nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
+  if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
+    result["skipped"] = "the fitted constants are not a stable isotropic material";
+  } else {
+    const toml::table scene = toml::parse_file(scene_path);
+    const double reduction = scene["dem"]["relax"]["gravity_reduction"].value_or(0.1);
+    toml::table root;
+    toml::table c;
+    c.insert("models", toml::array{"elastic"});
+    c.insert("mesh_file", (std::filesystem::path(out_dir) / "pile.msh").string());
+    c.insert("density_kg_per_m2", report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+    toml::table e;
+    e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
+    e.insert("shear_modulus_N_per_m", mu);
+    e.insert("gravity_change", -reduction);
+    c.insert("elastic", e);
+    root.insert("continuum", c);
+    const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
+    std::filesystem::create_directories(dir);
+    std::ostringstream text;
+    text << root;
+    write_text_atomically(dir + "/scene.toml", text.str() + "\n");
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+    const std::string cmd = "'" + self + "' solve '" + dir + "/scene.toml' -o '" + dir + "' > '" + dir + "/solve.log' 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("closed loop: " + cmd + " failed (see solve.log)");
+    result.update(compare::compare_displacements((std::filesystem::path(out_dir) / "fields.h5").string(),
+                                                 dir + "/models.h5", "elastic"));
+    result["lame_lambda_used_N_per_m"] = std::max(lambda, 0.0);
+    result["directory"] = "closed_loop";
+  }
+  nlohmann::json fit = report["fit"];
+  fit["closed_loop"] = result;
+  write_report_section((std::filesystem::path(out_dir) / "report.json").string(), "fit", fit);
+}
+#endif
+
 void run_pipeline(const RunOptions& opt) {
   SceneReader scene = SceneReader::from_file(opt.scene_path);
   std::filesystem::create_directories(opt.out_dir);
@@ -87,14 +174,18 @@ void run_pipeline(const RunOptions& opt) {
 #ifdef PILELAB_WITH_CONTINUUM
   stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, {"models.h5"}, [&] {
                       continuum::SolveOptions o;
-                      o.scene_path = opt.scene_path;
+                      o.scene_path = solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")));
                       o.out_dir = opt.out_dir;
                       o.quiet = opt.quiet;
                       continuum::run_solve_command(o);
                     }});
 #endif
-  stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"}, {"compare.vtu"},
-                    [&] { compare::run_compare({opt.scene_path, opt.out_dir}); }});
+  stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"}, {"compare.vtu"}, [&] {
+                      compare::run_compare({opt.scene_path, opt.out_dir});
+#ifdef PILELAB_WITH_CONTINUUM
+                      if (std::filesystem::exists(out("pile.msh"))) closed_loop(opt.scene_path, opt.out_dir, read_report(out("report.json")));
+#endif
+                    }});
 
   bool upstream_ran = false;
   for (const Stage& stage : stages) {

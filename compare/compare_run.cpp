@@ -135,6 +135,30 @@ void write_fit_samples(const std::string& path, const std::vector<FitSample>& sa
 
 }  // namespace
 
+nlohmann::json compare_displacements(const std::string& fields_path, const std::string& models_path,
+                                     const std::string& name) {
+  Triangulation mesh;
+  const PointFields dem = read_dem_fields(fields_path, &mesh);
+  const PointFields raw = read_model_fields(models_path, name);
+  double height = 0;
+  for (const Vec2& p : mesh.nodes) height = std::max(height, p.y());
+  const PointFields model = reindex(raw, match_points(raw.points, dem.points, 1e-9 * height), dem.points.size());
+  nlohmann::json out = nlohmann::json::object();
+  if (model.has("displacement_x") && dem.has("displacement_x")) {
+    const L2Difference x = l2_difference(mesh, model.at("displacement_x"), model.valid.at("displacement_x"),
+                                         dem.at("displacement_x"), dem.valid.at("displacement_x"));
+    const L2Difference y = l2_difference(mesh, model.at("displacement_y"), model.valid.at("displacement_y"),
+                                         dem.at("displacement_y"), dem.valid.at("displacement_y"));
+    const double ref = std::hypot(x.reference, y.reference);
+    out["relative_l2_displacement"] = ref > 0 ? std::hypot(x.difference, y.difference) / ref : 0.0;
+    out["relative_l2_displacement_y"] = y.relative;
+  }
+  for (const char* c : {"strain_xx", "strain_yy", "strain_xy"})
+    if (model.has(c) && dem.has(c))
+      out[std::string("relative_l2_") + c] = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
+  return out;
+}
+
 nlohmann::json run_fit(const FitOptions& opt) {
   Triangulation mesh;
   const PointFields dem = read_dem_fields(opt.fields_path, &mesh);

@@ -25,6 +25,11 @@ struct FitOptions {
 
 nlohmann::json run_compare(const CompareRunOptions& options);
 
+/// One model of a models.h5 against the DEM fields: relative L2 differences of the
+/// displacement (both components) and of the strain components (the closed loop of a fit).
+nlohmann::json compare_displacements(const std::string& fields_path, const std::string& models_path,
+                                     const std::string& model);
+
 /// The fit section alone, from any fields.h5 with stress_change_*, strain_*, fabric_* and
 /// pressure fields.
 nlohmann::json run_fit(const FitOptions& options);

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/report.h"
 #include "common/scene_tables.h"
 
 namespace pilelab::continuum {
@@ -77,6 +78,23 @@ double read_repose_angle(SceneReader& r, const std::string& key, double fallback
 }
 
 }  // namespace
+
+void apply_dem_repose_angles(FpaSettings& fpa, const std::string& report_path) {
+  const nlohmann::json report = read_report(report_path);
+  auto angle = [&](const char* key) {
+    const auto dem = report.find("dem");
+    if (dem == report.end() || !dem->contains(key) || !(*dem)[key].is_number())
+      throw InputError(report_path + ": dem." + key + ": missing (repose_angle_source = \"dem\" needs a `pilelab dem` "
+                       "run whose pile has both flanks)");
+    const double phi = (*dem)[key].get<double>();
+    if (!(phi > 0.0 && phi < 45.0))
+      throw InputError(report_path + ": dem." + key + ": " + std::to_string(phi) +
+                       " degrees is outside the FPA's range: expected 0 < angle of repose < 45 degrees");
+    return phi;
+  };
+  fpa.left_repose_angle_deg = angle("repose_angle_left_deg");
+  fpa.right_repose_angle_deg = angle("repose_angle_right_deg");
+}
 
 ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_dir) {
   ContinuumSettings s;
@@ -158,6 +176,12 @@ ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_
       (r.has("continuum.fpa.left_repose_angle_deg") || r.has("continuum.fpa.right_repose_angle_deg")))
     throw InputError(src + ": [continuum.fpa]: give either repose_angle_deg (both sides) or "
                            "left_repose_angle_deg and right_repose_angle_deg, not both");
+  f.angles_from_dem =
+      r.get_choice(log.key("continuum.fpa.repose_angle_source"), "scene", {"scene", "dem"}) == "dem";
+  if (f.angles_from_dem && (r.has("continuum.fpa.repose_angle_deg") || r.has("continuum.fpa.left_repose_angle_deg") ||
+                            r.has("continuum.fpa.right_repose_angle_deg")))
+    throw InputError(src + ": [continuum.fpa]: repose_angle_source = \"dem\" takes the angles from the DEM pile; "
+                           "remove the repose angles from the scene or set repose_angle_source = \"scene\"");
   const double phi = read_repose_angle(r, log.key("continuum.fpa.repose_angle_deg"), 28.0);
   f.left_repose_angle_deg = read_repose_angle(r, log.key("continuum.fpa.left_repose_angle_deg"), phi);
   f.right_repose_angle_deg = read_repose_angle(r, log.key("continuum.fpa.right_repose_angle_deg"), phi);

@@ -37,6 +37,9 @@ struct ElasticSettings {
 struct FpaSettings {
   double left_repose_angle_deg = 28.0;
   double right_repose_angle_deg = 28.0;
+  /// true: the angles are the DEM pile's, read from the "dem" section of OUT/report.json
+  /// (apply_dem_repose_angles), not from the scene.
+  bool angles_from_dem = false;
   int degree = 1;
   /// Traction-free flanks: "strong" imposes sigma = 0 there (what traction-free plus the
   /// closure imply, see docs/CONTINUUM.md), "weak" adds surface_weight/h_F * |sigma n|^2 on
@@ -65,5 +68,9 @@ struct ContinuumSettings {
 /// Reads [continuum] (and checks that it holds no unknown keys). Relative file names are taken
 /// relative to scene_dir. Throws InputError naming the file and the key.
 ContinuumSettings read_continuum_scene(SceneReader& reader, const std::string& scene_dir);
+
+/// For angles_from_dem: takes repose_angle_left_deg and repose_angle_right_deg from the "dem"
+/// section of report_path. InputError naming the file and key if absent or outside (0, 45).
+void apply_dem_repose_angles(FpaSettings& fpa, const std::string& report_path);
 
 }  // namespace pilelab::continuum

@@ -129,7 +129,9 @@ nlohmann::json run_solve(const SolveOptions& o) {
 
   SceneReader reader = SceneReader::from_file(o.scene_path);
   const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
-  const ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
+  ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
+  if (s.fpa && s.fpa_model.angles_from_dem)
+    apply_dem_repose_angles(s.fpa_model, (fs::path(o.out_dir) / "report.json").string());
   on_rank0(comm, [&] { fs::create_directories(o.out_dir); });
 
   const std::string msh = find_or_make_mesh(s, o, comm, pcout);
@@ -169,6 +171,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
     j["degree"] = f.degree;
     j["left_repose_angle_deg"] = f.left_repose_angle_deg;
     j["right_repose_angle_deg"] = f.right_repose_angle_deg;
+    j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
     j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
     j["equilibrium_residual_over_weight"] =
         problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;

@@ -81,6 +81,27 @@ TEST(ContinuumInput, ReposeAngleOutsideZeroToFortyFiveIsRefused) {
   EXPECT_EQ(error_of("[continuum.fpa]\nleft_repose_angle_deg = 28\nright_repose_angle_deg = 21\n"), "");
 }
 
+TEST(ContinuumInput, ReposeAnglesFromTheDemReport) {
+  SceneReader r("[continuum.fpa]\nrepose_angle_source = \"dem\"\n", "scene.toml");
+  ContinuumSettings s = read_continuum_scene(r, ".");
+  ASSERT_TRUE(s.fpa_model.angles_from_dem);
+  const std::string good = temp_file("report.json", R"({"dem": {"repose_angle_left_deg": 25.5, "repose_angle_right_deg": 21.0}})");
+  apply_dem_repose_angles(s.fpa_model, good);
+  EXPECT_DOUBLE_EQ(s.fpa_model.left_repose_angle_deg, 25.5);
+  EXPECT_DOUBLE_EQ(s.fpa_model.right_repose_angle_deg, 21.0);
+  const std::string bad = temp_file("bad_report.json", R"({"dem": {"repose_angle_left_deg": null, "repose_angle_right_deg": 21.0}})");
+  try {
+    apply_dem_repose_angles(s.fpa_model, bad);
+    FAIL() << "a null angle was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("dem.repose_angle_left_deg"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(error_of("[continuum.fpa]\nrepose_angle_source = \"dem\"\nrepose_angle_deg = 30\n").find("repose_angle_source"),
+            std::string::npos);
+  std::filesystem::remove(good);
+  std::filesystem::remove(bad);
+}
+
 TEST(ContinuumInput, UnknownKeysAndBadModelsAreRefused) {
   EXPECT_NE(error_of("[continuum]\ndensity = 3\n").find("continuum.density"), std::string::npos);
   EXPECT_NE(error_of("[continuum.elastic]\nyoung = 3\n").find("continuum.elastic.young"), std::string::npos);

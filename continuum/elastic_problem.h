@@ -38,7 +38,7 @@ struct ElasticResult {
   SolveStats solver;
   double setup_s = 0, assemble_s = 0, solve_s = 0;
   double base_force_N = 0;              ///< int_base p_yy dx, compressive positive (N: 2D force)
-  double base_shear_force = 0;          ///< int_base sigma_xy dx (on the pile, +x positive)
+  double base_shear_force = 0;          ///< int_base p_xy dx (p = -sigma): 0 for a pile in balance
   double weight = 0;                    ///< rho g |Omega|
 };
 

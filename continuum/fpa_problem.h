@@ -61,7 +61,7 @@ class FpaProblem {
   /// Compressive-positive stress at p if this rank owns p's cell.
   bool stress_at(const dealii::Point<2>& p, Stress2& stress) const;
 
-  /// L2 error of p_yy along the base (boundary id 1) against exact(x), in N/m.
+  /// L2 error of p_yy along the base (boundary id 1) against exact(x): (int_base (p_yy - exact)^2 dx)^(1/2).
   double base_pressure_error(const std::function<double(double x)>& exact_p_yy) const;
   /// L2 error of the whole stress tensor (xx, yy, xy) over the domain.
   double stress_error(const std::function<Stress2(const dealii::Point<2>&)>& exact) const;

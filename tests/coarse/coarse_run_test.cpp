@@ -142,6 +142,42 @@ TEST_F(CoarseRun, MeshThatDoesNotCoverThePile) {
     for (double v : f.read_doubles(std::string("/fields/") + q)) EXPECT_TRUE(std::isfinite(v)) << q;
 }
 
+// An ensemble of two piles on one mesh: at every point the mean of the two single-pile values
+// and the standard error |a - b| / 2 (n = 2: sd = |a - b| / sqrt 2, se = sd / sqrt 2).
+TEST_F(CoarseRun, EnsembleMeanAndStandardError) {
+  std::string b = PILELAB_SMALL_PILE_B;
+  if (!std::filesystem::exists(b)) {
+    pilelab::dem::DemRunOptions dem;
+    dem.scene_path = std::string(PILELAB_SOURCE_DIR) + "/tests/coarse/small_pile_b.toml";
+    dem.out_dir = out_ + "/b";
+    dem.quiet = true;
+    pilelab::dem::run_dem(dem);
+    b = out_ + "/b/dem.h5";
+  }
+  auto scene = [&](const std::string& name, const std::string& files) {
+    std::ofstream(out_ + "/" + name + ".toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [" << files
+                                              << "]\nrve_radius_m = 0.01\nprofile_heights = [0.0]\n";
+    pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name});
+    return pilelab::H5File::open_read(out_ + "/" + name + "/fields.h5");
+  };
+  const auto one = scene("one", "\"dem.h5\""), two = scene("two", "\"" + b + "\"");
+  const auto both = scene("both", "\"dem.h5\", \"" + b + "\"");
+  for (const char* q : {"stress_yy", "volume_fraction", "coordination"}) {
+    const auto a = one.read_doubles(std::string("/fields/") + q), c = two.read_doubles(std::string("/fields/") + q);
+    const auto na = one.read_ints(std::string("/fields/") + q + "_count"), nc = two.read_ints(std::string("/fields/") + q + "_count");
+    const auto mean = both.read_doubles(std::string("/fields/") + q), se = both.read_doubles(std::string("/fields/") + q + "_stderr");
+    int checked = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!(na[i] && nc[i])) continue;
+      const double scale = std::abs(a[i]) + std::abs(c[i]) + 1e-300;
+      EXPECT_NEAR(mean[i], 0.5 * (a[i] + c[i]), 1e-12 * scale) << q << " " << i;
+      EXPECT_NEAR(se[i], 0.5 * std::abs(a[i] - c[i]), 1e-12 * scale) << q << " " << i;
+      ++checked;
+    }
+    EXPECT_GT(checked, 10) << q;
+  }
+}
+
 TEST(CoarseErrors, MissingMeshIsNamed) {
   const auto dir = std::filesystem::temp_directory_path() / ("pilelab_coarse_err_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

@@ -104,3 +104,25 @@ TEST(PileMesh, AbsurdElementCountIsRefused) {
   spec.element_size_m = 1e-5;
   EXPECT_THROW(write_mesh(spec, temp_path("huge.msh")), pilelab::InputError);
 }
+
+// The .geo templates in meshes/ give gmsh the same geometry and boundary tags as the API.
+TEST(PileMesh, GeoTemplatesMeshWithGmsh) {
+  struct Case {
+    std::string geo, args;
+    double area;
+  };
+  const double h = 0.33, t28 = std::tan(28.0 * M_PI / 180), t30 = std::tan(30.0 * M_PI / 180);
+  const std::vector<Case> cases = {
+      {"wedge.geo", "-setnumber left_angle_deg 30", 0.5 * h * h * (1 / t30 + 1 / t28)},
+      {"symmetric_wedge.geo", "-setnumber repose_angle_deg 30", h * h / t30},
+      {"block.geo", "-setnumber width_m 2 -setnumber height_m 0.5", 1.0}};
+  for (const Case& c : cases) {
+    const std::string out = temp_path(c.geo + ".msh");
+    const std::string cmd = "gmsh -2 " + std::string(PILELAB_SOURCE_DIR) + "/meshes/" + c.geo + " " + c.args +
+                            " -o " + out + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const TriangleMesh m = read_triangle_mesh(out);
+    EXPECT_NEAR(mesh_area(m), c.area, 1e-12) << c.geo;
+    EXPECT_GT(boundary_lengths(m).at(BoundaryId::base), 0.0) << c.geo;
+  }
+}

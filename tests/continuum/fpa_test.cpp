@@ -221,8 +221,13 @@ TEST(FpaWedge, WeakSurfaceAgreesWithStrong) {
   s.surface = FpaSettings::Surface::weak;
   FpaProblem problem(*tria, s, rho, g, 0.0);
   const FpaResult& r = problem.run();
-  EXPECT_NEAR(r.base_force_N / r.weight, 1.0, 2e-2);
   Stress2 centre;
   ASSERT_TRUE(problem.stress_at(Point<2>(0.0, 0.0), centre));
-  EXPECT_NEAR(centre.yy / (rho * g * h), exact_base_pressure(28, 0.0) / (rho * g * h), 0.03);
+  std::printf("weak surface, 5 levels: base force / weight = %.5f, centre p_yy / rho g h = %.4f (exact %.4f)\n",
+              r.base_force_N / r.weight, centre.yy / (rho * g * h), exact_base_pressure(28, 0.0) / (rho * g * h));
+  // The penalty is consistent (the exact stress makes the boundary term vanish), so the weak
+  // solution converges to the same limit: the same criteria as the strong one (weight to 0.5 %,
+  // the smooth centre of the dip within 1 % of rho g h).
+  EXPECT_NEAR(r.base_force_N / r.weight, 1.0, 5e-3);
+  EXPECT_NEAR(centre.yy / (rho * g * h), exact_base_pressure(28, 0.0) / (rho * g * h), 0.01);
 }

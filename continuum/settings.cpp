@@ -178,10 +178,8 @@ ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_
                            "left_repose_angle_deg and right_repose_angle_deg, not both");
   f.angles_from_dem =
       r.get_choice(log.key("continuum.fpa.repose_angle_source"), "scene", {"scene", "dem"}) == "dem";
-  if (f.angles_from_dem && (r.has("continuum.fpa.repose_angle_deg") || r.has("continuum.fpa.left_repose_angle_deg") ||
-                            r.has("continuum.fpa.right_repose_angle_deg")))
-    throw InputError(src + ": [continuum.fpa]: repose_angle_source = \"dem\" takes the angles from the DEM pile; "
-                           "remove the repose angles from the scene or set repose_angle_source = \"scene\"");
+  // With "dem" the measured angles replace any given here (`pilelab run` fills in the DEM's angles
+  // itself, which are then the same); the keys are still checked.
   const double phi = read_repose_angle(r, log.key("continuum.fpa.repose_angle_deg"), 28.0);
   f.left_repose_angle_deg = read_repose_angle(r, log.key("continuum.fpa.left_repose_angle_deg"), phi);
   f.right_repose_angle_deg = read_repose_angle(r, log.key("continuum.fpa.right_repose_angle_deg"), phi);

@@ -96,8 +96,11 @@ TEST(ContinuumInput, ReposeAnglesFromTheDemReport) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("dem.repose_angle_left_deg"), std::string::npos) << e.what();
   }
-  EXPECT_NE(error_of("[continuum.fpa]\nrepose_angle_source = \"dem\"\nrepose_angle_deg = 30\n").find("repose_angle_source"),
-            std::string::npos);
+  // The measured angles replace the scene's.
+  SceneReader r2("[continuum.fpa]\nrepose_angle_source = \"dem\"\nrepose_angle_deg = 30\n", "scene.toml");
+  ContinuumSettings s2 = read_continuum_scene(r2, ".");
+  apply_dem_repose_angles(s2.fpa_model, good);
+  EXPECT_DOUBLE_EQ(s2.fpa_model.left_repose_angle_deg, 25.5);
   std::filesystem::remove(good);
   std::filesystem::remove(bad);
 }

@@ -383,6 +383,10 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   std::vector<std::array<double, 2>> nodes;
   for (const auto& p : mesh.nodes) nodes.push_back({p.x(), p.y()});
   write_triangle_vtu(in_dir(opt.out_dir, "compare.vtu"), nodes, mesh.triangles, vtu);
+  // A one-entry collection, so ParaView opens the comparison like the DEM's dem.pvd.
+  write_text_atomically(in_dir(opt.out_dir, "compare.pvd"),
+                        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n"
+                        "    <DataSet timestep=\"0\" part=\"0\" file=\"compare.vtu\"/>\n  </Collection>\n</VTKFile>\n");
   section["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   write_report_section(in_dir(opt.out_dir, "report.json"), "compare", section);
   return section;

@@ -56,6 +56,7 @@ struct Stage {
   std::string name;
   std::vector<std::string> tables;   ///< scene tables the stage reads
   std::vector<std::string> inputs;   ///< files in OUT/ it reads
+  std::vector<std::string> external; ///< files elsewhere it reads (scene path keys), absolute
   std::vector<std::string> outputs;  ///< files in OUT/ it writes (all must exist to skip)
   std::function<void()> run;
 };
@@ -81,6 +82,8 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
   toml::table& c = *root["continuum"].as_table();
   if (!c.contains("density_kg_per_m2") && report.contains("coarse"))
     c.insert("density_kg_per_m2", report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+  if (!c.contains("gravity_m_per_s2") && report.contains("coarse"))
+    c.insert("gravity_m_per_s2", report["coarse"]["gravity_m_per_s2"].get<double>());
   if (report.contains("dem")) {
     const auto& d = report["dem"];
     const bool measured = d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number();
@@ -113,17 +116,20 @@ void closed_loop(const std::string& scene_path, const std::string& out_dir, cons
   if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
     result["skipped"] = "the fitted constants are not a stable isotropic material";
   } else {
-    const toml::table scene = toml::parse_file(scene_path);
-    const double reduction = scene["dem"]["relax"]["gravity_reduction"].value_or(0.1);
+    // The gravity change the DEM's strains come from, as coarse measured it from the snapshots.
+    const auto& coarse = report["coarse"];
+    const double change = coarse.value("gravity_change", 0.0);
+    if (change == 0.0) return;
     toml::table root;
     toml::table c;
     c.insert("models", toml::array{"elastic"});
-    c.insert("mesh_file", (std::filesystem::path(out_dir) / "pile.msh").string());
-    c.insert("density_kg_per_m2", report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+    c.insert("mesh_file", coarse["mesh_file"].get<std::string>());  // the mesh the fields live on
+    c.insert("density_kg_per_m2", coarse["rho_bulk_kg_per_m2"].get<double>());
+    c.insert("gravity_m_per_s2", coarse["gravity_m_per_s2"].get<double>());
     toml::table e;
     e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
     e.insert("shear_modulus_N_per_m", mu);
-    e.insert("gravity_change", -reduction);
+    e.insert("gravity_change", change);
     c.insert("elastic", e);
     root.insert("continuum", c);
     const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
@@ -159,8 +165,29 @@ void run_pipeline(const RunOptions& opt) {
     }
   }
 
+  // Files named in the scene (resolved like the stages resolve them) are inputs too: a changed
+  // ensemble member or user mesh must rerun the stage that reads it.
+  const toml::table toml_scene = toml::parse_file(opt.scene_path);
+  const std::string scene_dir = std::filesystem::path(opt.scene_path).parent_path().string();
+  auto scene_paths = [&](const char* table, const char* key) {
+    std::vector<std::string> paths;
+    auto resolve = [&](const std::string& p) {
+      paths.push_back(std::filesystem::path(p).is_absolute() ? p : (std::filesystem::path(scene_dir) / p).string());
+    };
+    const toml::node_view<const toml::node> v = toml_scene[table][key];
+    if (auto s = v.value<std::string>(); s && !s->empty()) resolve(*s);
+    if (const toml::array* a = v.as_array())
+      for (const auto& e : *a)
+        if (auto s = e.value<std::string>()) resolve(*s);
+    return paths;
+  };
+  auto join = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+
   std::vector<Stage> stages;
-  stages.push_back({"dem", {"dem"}, {}, {"dem.h5"}, [&] {
+  stages.push_back({"dem", {"dem"}, {}, {}, {"dem.h5"}, [&] {
                       dem::DemRunOptions o;
                       o.scene_path = opt.scene_path;
                       o.out_dir = opt.out_dir;
@@ -168,11 +195,13 @@ void run_pipeline(const RunOptions& opt) {
                       o.threads = opt.threads;
                       dem::run_dem(o);
                     }});
-  stages.push_back({"mesh", {"mesh"}, {"dem.h5"}, {"pile.msh"}, [&] { mesh::run_mesh({opt.scene_path, opt.out_dir}); }});
-  stages.push_back({"coarse", {"coarse"}, {"dem.h5", "pile.msh"}, {"fields.h5", "fields.vtu"},
+  stages.push_back({"mesh", {"mesh"}, {"dem.h5"}, scene_paths("mesh", "dem_file"), {"pile.msh"},
+                    [&] { mesh::run_mesh({opt.scene_path, opt.out_dir}); }});
+  stages.push_back({"coarse", {"coarse"}, {"dem.h5", "pile.msh"},
+                    join(scene_paths("coarse", "dem_files"), scene_paths("coarse", "mesh_file")), {"fields.h5", "fields.vtu"},
                     [&] { coarse::run_coarse({opt.scene_path, opt.out_dir}); }});
 #ifdef PILELAB_WITH_CONTINUUM
-  stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, {"models.h5"}, [&] {
+  stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, scene_paths("continuum", "mesh_file"), {"models.h5"}, [&] {
                       continuum::SolveOptions o;
                       o.scene_path = solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")));
                       o.out_dir = opt.out_dir;
@@ -180,7 +209,8 @@ void run_pipeline(const RunOptions& opt) {
                       continuum::run_solve_command(o);
                     }});
 #endif
-  stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"}, {"compare.vtu"}, [&] {
+  stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"},
+                    join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, [&] {
                       compare::run_compare({opt.scene_path, opt.out_dir});
 #ifdef PILELAB_WITH_CONTINUUM
                       if (std::filesystem::exists(out("pile.msh"))) closed_loop(opt.scene_path, opt.out_dir, read_report(out("report.json")));
@@ -194,6 +224,7 @@ void run_pipeline(const RunOptions& opt) {
       std::string fp;
       for (const auto& t : stage.tables) fp += t + "=" + std::to_string(fnv1a(scene.table_text(t))) + ";";
       for (const auto& f : stage.inputs) fp += f + "=" + file_fingerprint(out(f)) + ";";
+      for (const auto& f : stage.external) fp += f + "=" + file_fingerprint(f) + ";";
       return fp;
     };
     const std::string fingerprint = fingerprint_now();

@@ -194,16 +194,18 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
 
   // The piles.
   std::vector<Pile> piles;
-  bool strains = true;
+  int piles_with_strains = 0;
+  double gravity_change = 0.0;  // g(strain_to) / g(snapshot) - 1, of the first pile with both
   for (const std::string& path : settings.dem_files) {
     Pile pile;
     pile.path = path;
     const dem::DemFile file = dem::read_dem_file(path);
     pile.packing = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.snapshot)));
-    if (file.has_snapshot(settings.strain_to))
+    if (file.has_snapshot(settings.strain_to)) {
       pile.later = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.strain_to)));
-    else
-      strains = false;
+      if (piles_with_strains++ == 0)
+        gravity_change = pile.later->gravity.norm() / pile.packing->gravity.norm() - 1.0;
+    }
     for (const Grain& g : pile.packing->grains) {
       pile.height = std::max(pile.height, top_of(g));
       pile.grain_area += g.area;
@@ -225,10 +227,10 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
 
   // The averaging window.
   for (Pile& p : piles) {
-    p.rve = std::make_unique<RveAverager>(*p.packing, settings.clip_volume ? domain : Domain{});
+    p.rve = std::make_unique<RveAverager>(*p.packing, domain, settings.clip_volume);
     if (p.later) {
       p.rve->set_displacements(*p.later);
-      p.rve_later = std::make_unique<RveAverager>(*p.later, settings.clip_volume ? domain : Domain{});
+      p.rve_later = std::make_unique<RveAverager>(*p.later, domain, settings.clip_volume);
     }
   }
   const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
@@ -241,7 +243,9 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   if (study_points.empty()) {
     const double y = 0.25 * mean_height;
     const auto [lo, hi] = x_range_at(domain, y);
-    const double axis = 0.5 * (lo + hi);
+    double axis = 0.5 * (lo + hi), top = -INFINITY;  // the vertical through the apex
+    for (const Vec2& n : mesh.nodes)
+      if (n.y() > top) top = n.y(), axis = n.x();
     study_points = {{axis, y}, {0.5 * (lo + axis), y}, {0.5 * (axis + hi), y}};
   }
   std::ostringstream study_csv;
@@ -271,7 +275,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       if (s.grain_count >= settings.study_max_grain_count || r > 4 * mean_height) break;
     }
     // Converged at size i when every later size stays within tolerance of it, measured
-    // against the largest size's magnitude (per tensor: the norm of its components).
+    // against the largest size's magnitude (per tensor: its largest component).
     const std::size_t last = counts.size() - 1;
     std::size_t converged = last;
     for (std::size_t i = 0; i <= last; ++i) {
@@ -322,21 +326,32 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     }
     return s;
   };
+  // Each quantity at each point: the value of the ensemble-mean sample (tensors averaged,
+  // then derived), and the standard error of the per-pile values (axes unwrapped to within
+  // 90 degrees of the mean before their spread is taken).
   auto sample_all = [&](const std::vector<Vec2>& points) {
     const auto& qs = quantities();
     Samples out;
     out.stats.assign(qs.size(), std::vector<Stat>(points.size()));
-    std::vector<std::vector<std::vector<double>>> raw(qs.size(), std::vector<std::vector<double>>(points.size()));
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::size_t i = 0; i < points.size(); ++i) {
-      for (const Pile& p : piles) {
-        const RveSample s = sample(p, points[i]);
-        for (std::size_t q = 0; q < qs.size(); ++q) {
-          const auto v = qs[q].value(s);
-          raw[q][i].push_back(v ? *v : NAN);
+      std::vector<RveSample> per_pile;
+      for (const Pile& p : piles) per_pile.push_back(sample(p, points[i]));
+      const RveSample mean = mean_sample(per_pile);
+      for (std::size_t q = 0; q < qs.size(); ++q) {
+        const auto m = qs[q].value(mean);
+        std::vector<double> values;
+        for (const RveSample& s : per_pile) {
+          auto v = qs[q].value(s);
+          if (!v) continue;
+          if (qs[q].is_axis && m) *v += 180.0 * std::round((*m - *v) / 180.0);
+          values.push_back(*v);
         }
+        Stat st = stat_of(values);
+        if (!m || values.empty()) st = Stat{};
+        else st.mean = *m;
+        out.stats[q][i] = st;
       }
-      for (std::size_t q = 0; q < qs.size(); ++q) out.stats[q][i] = stat_of(raw[q][i]);
     }
     return out;
   };
@@ -420,7 +435,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
                          {"kernel_width_m", settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width},
                          {"piles", static_cast<std::int64_t>(piles.size())},
                          {"snapshot", settings.snapshot},
-                         {"strain_to", strains ? settings.strain_to : std::string("")},
+                         {"strain_to", piles_with_strains ? settings.strain_to : std::string("")},
+                         {"gravity_change", gravity_change},
                          {"height_m", mean_height},
                          {"rho_bulk_kg_per_m2", rho_bulk},
                          {"gravity_m_per_s2", gravity}};
@@ -436,7 +452,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   section["mean_grain_count"] = mean_count;
   section["points"] = points.size();
   section["points_without_data"] = no_data;
-  section["strains"] = strains;
+  section["strains"] = piles_with_strains > 0;
+  section["piles_with_strains"] = piles_with_strains;
   section["fabric_g2"] = g2_points ? g2 / g2_points : 0.0;
   int outside = 0;
   for (const Pile& p : piles) outside = std::max(outside, p.rve->grains_outside_domain());

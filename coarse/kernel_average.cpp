@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <tuple>
 
 namespace pilelab::coarse {
 
@@ -67,6 +68,7 @@ RveSample KernelAverager::average(const Vec2& point) const {
   RveSample s;
   double weight_sum = 0, contacts = 0;
   Tensor A = Tensor::Zero(), B = Tensor::Zero();
+  std::vector<std::tuple<double, Vec2, Vec2>> fit;  // weight, branch, relative displacement
   double moved_weight = 0;
   const double reach = support_ + 2 * max_bounding_radius_;  // branches start within reach
   grid_.for_each_near(point, reach, [&](int p) {
@@ -89,6 +91,7 @@ RveSample KernelAverager::average(const Vec2& point) const {
         const Vec2 du = displacement_[k.b] - displacement_[p];
         A += wc * branch * branch.transpose();
         B += wc * branch * du.transpose();
+        fit.emplace_back(wc, branch, du);
         ++s.strain_contacts;
       }
     }
@@ -105,6 +108,12 @@ RveSample KernelAverager::average(const Vec2& point) const {
   if (s.strain_contacts >= 2 && A.determinant() > 1e-10 * trace * trace) {
     s.displacement_gradient = (A.inverse() * B).transpose();
     s.has_strain = true;
+    double residual = 0, total = 0;  // the weighted relative residual of the fit
+    for (const auto& [w, l, du] : fit) {
+      residual += w * (du - s.displacement_gradient * l).squaredNorm();
+      total += w * du.squaredNorm();
+    }
+    s.strain_fit_residual = total > 0 ? std::sqrt(residual / total) : 0.0;
   }
   return s;
 }

@@ -8,8 +8,9 @@
 // where for a grain-grain contact f_c is the force on p and b_c = r_q - r_p (the branch
 // between the centres), and for a wall contact b_c = x_c - r_p. Because d/ds of the kernel
 // along the branch is its divergence, div sigma = sum_p phi(r - r_p) (sum of contact forces
-// on p) minus the wall forces spread at their contact points: in equilibrium, exactly
-// div sigma + rho g = (wall tractions), the momentum balance the RVE average only approaches.
+// on p) minus the wall forces spread at their contact points: in equilibrium
+// div sigma + rho g = -sum_walls f_c phi(r - x_c), exact up to the quadrature of the branch
+// integral: the momentum balance the RVE average only approaches.
 // Fabric, coordination and volume fraction are kernel-weighted grain sums; the strain is
 // Cambou's fit with each contact weighted by the kernel at its branch midpoint.
 #include "coarse/rve_average.h"

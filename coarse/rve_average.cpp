@@ -25,7 +25,8 @@ bool Domain::contains(const Vec2& x) const {
   return inside;
 }
 
-RveAverager::RveAverager(const Packing& packing, Domain domain) : packing_(packing), domain_(std::move(domain)) {
+RveAverager::RveAverager(const Packing& packing, Domain domain, bool clip_volume)
+    : packing_(packing), domain_(std::move(domain)), clip_volume_(clip_volume) {
   const std::size_t n = packing.grains.size();
   moment_.assign(n, Tensor::Zero());
   fabric_.assign(n, Tensor::Zero());
@@ -85,7 +86,7 @@ void RveAverager::set_displacements(const Packing& later) {
 
 RveSample RveAverager::average(const Vec2& point, double radius) const {
   RveSample s;
-  s.volume = domain_.area_in_disc(point, radius);
+  s.volume = clip_volume_ ? domain_.area_in_disc(point, radius) : M_PI * radius * radius;
   const double r2 = radius * radius;
   std::vector<int> inside;
   double grain_area_inside = 0;

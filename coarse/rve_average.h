@@ -61,7 +61,9 @@ struct RveSample {
 
 class RveAverager {
  public:
-  explicit RveAverager(const Packing& packing, Domain domain = {});
+  /// With a domain, grains whose centre lies outside it are left out; clip_volume makes V the
+  /// part of the disc inside the domain (otherwise the whole disc, as in the paper).
+  explicit RveAverager(const Packing& packing, Domain domain = {}, bool clip_volume = true);
 
   /// Grain-centre displacements from this packing to later (grains matched by body; grains
   /// missing from later get no displacement and their contacts are left out of the fit).
@@ -79,6 +81,7 @@ class RveAverager {
  private:
   const Packing& packing_;
   Domain domain_;
+  bool clip_volume_ = true;
   GrainGrid grid_;
   std::vector<Tensor> moment_;        ///< per grain: sum_c F^c (x) x^c  [N m]
   std::vector<Tensor> fabric_;        ///< per grain: sum_c n^c (x) n^c

@@ -138,7 +138,10 @@ void write_fit_samples(const std::string& path, const std::vector<FitSample>& sa
 nlohmann::json compare_displacements(const std::string& fields_path, const std::string& models_path,
                                      const std::string& name) {
   Triangulation mesh;
-  const PointFields dem = read_dem_fields(fields_path, &mesh);
+  bool on_nodes = true;
+  const PointFields dem = read_dem_fields(fields_path, &mesh, &on_nodes);
+  if (!on_nodes)
+    throw InputError(fields_path + ": the comparison needs the fields at the mesh nodes (coarse.location = \"nodes\")");
   const PointFields raw = read_model_fields(models_path, name);
   double height = 0;
   for (const Vec2& p : mesh.nodes) height = std::max(height, p.y());
@@ -228,14 +231,15 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   nlohmann::json models = nlohmann::json::object();
   section["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
-    // Stresses are compared in units of each source's own rho g h: the DEM's bulk density and
-    // height against the model's, so a model loaded with another density compares by shape
-    // (elastic stresses under gravity are proportional to rho g h).
+    // Both sources are sampled at the same points, where a gravity stress scales with rho g:
+    // model stresses are rescaled by the DEM's rho g over the model's, so that a model loaded
+    // with another density compares by the shape of its field.
     const double dem_scale = fields_file.attribute_double("/", "rho_bulk_kg_per_m2") *
-                             fields_file.attribute_double("/", "gravity_m_per_s2") * height;
+                             fields_file.attribute_double("/", "gravity_m_per_s2");
     double model_scale = dem_scale;
     try {
-      model_scale = H5File::open_read(models_path).attribute_double("/", "rho_g_h_N_per_m");
+      const H5File m = H5File::open_read(models_path);
+      model_scale = m.attribute_double("/", "rho_g_h_N_per_m") / m.attribute_double("/", "height_m");
     } catch (const InputError&) {
     }
     section["stress_scale_dem_over_model"] = dem_scale / model_scale;
@@ -358,12 +362,23 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   // The FPA angle that best fits the DEM's stress axes: psi = deviation of the major axis from
   // the vertical, towards the axis of the pile (left: 90 - theta, right: theta - 90).
   if (dem.has("stress_orientation_deg")) {
+    // Per triangle (the side is the centroid's), the linear interpolant of the deviation.
     const auto& th = dem.at("stress_orientation_deg");
     const auto& ok = dem.valid.at("stress_orientation_deg");
-    std::vector<double> dev(th.size());
-    for (std::size_t i = 0; i < th.size(); ++i) dev[i] = mesh.nodes[i].x() < apex_x ? 90.0 - th[i] : th[i] - 90.0;
-    const double left = area_mean(mesh, dev, ok, [&](const Vec2& c) { return c.x() < apex_x; });
-    const double right = area_mean(mesh, dev, ok, [&](const Vec2& c) { return c.x() > apex_x; });
+    double integral[2] = {0, 0}, area[2] = {0, 0};
+    for (const auto& t : mesh.triangles) {
+      if (!(ok[t[0]] && ok[t[1]] && ok[t[2]])) continue;
+      const Vec2 c = (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0;
+      if (c.x() == apex_x) continue;
+      const int side = c.x() < apex_x ? 0 : 1;
+      const double a = 0.5 * dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
+      double mean = 0;
+      for (int k : t) mean += (side == 0 ? 90.0 - th[k] : th[k] - 90.0) / 3.0;
+      integral[side] += a * mean;
+      area[side] += a;
+    }
+    const double left = area[0] > 0 ? integral[0] / area[0] : NAN;
+    const double right = area[1] > 0 ? integral[1] / area[1] : NAN;
     section["fpa_angle"] = {{"psi_fit_left_deg", left},
                             {"psi_fit_right_deg", right},
                             {"psi_fit_deg", 0.5 * (left + right)},

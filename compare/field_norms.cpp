@@ -33,7 +33,8 @@ L2Difference l2_difference(const Triangulation& mesh, const std::vector<double>&
   }
   out.difference = std::sqrt(std::max(diff2, 0.0));
   out.reference = std::sqrt(std::max(ref2, 0.0));
-  out.relative = out.reference > 0 ? out.difference / out.reference : 0.0;
+  // No common triangle: no comparison (NaN, written as null), never a perfect match.
+  out.relative = out.area == 0 ? NAN : out.reference > 0 ? out.difference / out.reference : 0.0;
   return out;
 }
 

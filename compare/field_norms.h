@@ -16,7 +16,7 @@ using Region = std::function<bool(const Vec2& centroid)>;
 struct L2Difference {
   double difference = 0.0;   ///< || a - b ||
   double reference = 0.0;    ///< || b ||
-  double relative = 0.0;     ///< difference / reference (0 if the reference vanishes)
+  double relative = 0.0;     ///< difference / reference (0 if the reference vanishes, NaN if no triangle counts)
   double area = 0.0;         ///< area integrated over [m^2]
 };
 

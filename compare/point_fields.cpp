@@ -35,9 +35,16 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   const auto xy = f.read_doubles("/fields/points", &dims);
   if (dims.size() != 2 || dims[1] != 2) throw InputError(path + ": /fields/points must have shape (k, 2)");
   for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
-  for (const std::string& name : f.list("/fields")) {
+  const std::vector<std::string> names = f.list("/fields");
+  auto is_field = [&](const std::string& n) { return std::find(names.begin(), names.end(), n) != names.end(); };
+  auto ends_with = [](const std::string& n, const std::string& tail) {
+    return n.size() > tail.size() && n.compare(n.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  for (const std::string& name : names) {
     if (name == "points" || name == "piles_with_data") continue;
-    if (name.size() > 6 && (name.rfind("_count") == name.size() - 6 || name.rfind("_stderr") == name.size() - 7)) continue;
+    // Q_count and Q_stderr belong to Q; grain_count is a field of its own.
+    if (ends_with(name, "_count") && is_field(name.substr(0, name.size() - 6))) continue;
+    if (ends_with(name, "_stderr") && is_field(name.substr(0, name.size() - 7))) continue;
     auto values = f.read_doubles("/fields/" + name);
     const auto count = f.read_ints("/fields/" + name + "_count");
     if (values.size() != out.points.size() || count.size() != out.points.size())

@@ -68,11 +68,13 @@ bool solve_ls(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, Eigen::VectorX
   return true;
 }
 
-FitResult fit_once(const std::vector<FitSample>& s, FitModel model) {
+// p_ref: the reference pressure of the pressure-dependent law, fixed by the caller so that
+// every bootstrap resample and fold refers its lambda0, mu0 to the same pressure.
+FitResult fit_once(const std::vector<FitSample>& s, FitModel model, double p_ref) {
   FitResult r;
   r.model = model;
   r.samples = static_cast<int>(s.size());
-  const double p_mean = mean_pressure_of(s);
+  const double p_mean = p_ref;
   Eigen::MatrixXd A;
   Eigen::VectorXd b, x;
   double n_best = 0;
@@ -121,7 +123,9 @@ FitResult fit_once(const std::vector<FitSample>& s, FitModel model) {
 double youngs_modulus(double lambda, double mu) { return mu * (3 * lambda + 2 * mu) / (lambda + mu); }
 double poisson_ratio(double lambda, double mu) { return lambda / (2 * (lambda + mu)); }
 
-FitResult fit(const std::vector<FitSample>& samples, FitModel model) { return fit_once(samples, model); }
+FitResult fit(const std::vector<FitSample>& samples, FitModel model) {
+  return fit_once(samples, model, mean_pressure_of(samples));
+}
 
 Tensor predict(const FitResult& f, const FitSample& s, double p_mean) {
   const Tensor I = Tensor::Identity();
@@ -147,7 +151,8 @@ Tensor predict(const FitResult& f, const FitSample& s, double p_mean) {
 
 FitResult fit_with_uncertainty(const std::vector<FitSample>& samples, FitModel model, int resamples,
                                unsigned seed, int folds) {
-  FitResult r = fit_once(samples, model);
+  const double p_ref = mean_pressure_of(samples);
+  FitResult r = fit_once(samples, model, p_ref);
   if (!r.ok) return r;
   std::mt19937_64 rng(seed);
   // Bootstrap: refit on samples drawn with replacement; percentile intervals.
@@ -156,7 +161,7 @@ FitResult fit_with_uncertainty(const std::vector<FitSample>& samples, FitModel m
   for (int b = 0; b < resamples; ++b) {
     std::vector<FitSample> s(samples.size());
     for (auto& x : s) x = samples[pick(rng)];
-    const FitResult f = fit_once(s, model);
+    const FitResult f = fit_once(s, model, p_ref);
     if (!f.ok) continue;
     for (std::size_t j = 0; j < f.parameters.size(); ++j) draws[j].push_back(f.parameters[j]);
   }
@@ -174,11 +179,10 @@ FitResult fit_with_uncertainty(const std::vector<FitSample>& samples, FitModel m
   for (int k = 0; k < folds; ++k) {
     std::vector<FitSample> train, test;
     for (std::size_t i = 0; i < order.size(); ++i) (static_cast<int>(i % folds) == k ? test : train).push_back(samples[order[i]]);
-    const FitResult f = fit_once(train, model);
+    const FitResult f = fit_once(train, model, p_ref);
     if (!f.ok) continue;
-    const double p_mean = mean_pressure_of(train);
     for (const auto& s : test) {
-      const Tensor d = predict(f, s, p_mean) - s.stress_change;
+      const Tensor d = predict(f, s, p_ref) - s.stress_change;
       sq += d(0, 0) * d(0, 0) + d(1, 1) * d(1, 1) + 0.25 * (d(0, 1) + d(1, 0)) * (d(0, 1) + d(1, 0));
       count += 3;
     }

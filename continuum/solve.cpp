@@ -151,7 +151,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
                            {"density_kg_per_m2", s.density_kg_per_m2},
                            {"gravity_m_per_s2", s.gravity_m_per_s2},
                            {"rho_g_h_N_per_m", rho_g_h},
-                           {"stress_sign", "compressive positive"}};
+                           {"stress_sign", "stress_* tension positive; pressure, principal stresses and profile sigma_* compressive positive"}};
   Outputs outputs{o.out_dir, *tria, pile, s, rho_g_h, model_output_points(*tria), {}, {}, comm, pcout};
   if (s.elastic) {
     const ElasticSettings& e = s.elastic_model;

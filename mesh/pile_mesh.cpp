@@ -69,7 +69,33 @@ void build_pile(const Outline& outline, const MeshSpec& spec) {
   const std::vector<int> right_flank = chain(right_points);
   const bool split = spec.embed_axis && s[a].x() > s.front().x() && s[a].x() < s.back().x();
   std::vector<int> base, surfaces;
-  if (split) {
+  if (split && spec.embed_rays) {
+    // Four regions: the axis and the two FPA characteristics from the apex, at psi = 45 - phi/2
+    // degrees from the vertical on each side, all meshed along (an ideal wedge only).
+    const double h = s[a].y();
+    const double psi_left = (45.0 - 0.5 * spec.wedge.left_angle_deg) * degree;
+    const double psi_right = (45.0 - 0.5 * spec.wedge.right_angle_deg) * degree;
+    const int foot = gmsh::model::geo::addPoint(s[a].x(), 0.0, 0.0, axis_size);
+    const int ray_left_foot = gmsh::model::geo::addPoint(s[a].x() - h * std::tan(psi_left), 0.0, 0.0, size);
+    const int ray_right_foot = gmsh::model::geo::addPoint(s[a].x() + h * std::tan(psi_right), 0.0, 0.0, size);
+    const int b0 = gmsh::model::geo::addLine(pt.front(), ray_left_foot);
+    const int b1 = gmsh::model::geo::addLine(ray_left_foot, foot);
+    const int b2 = gmsh::model::geo::addLine(foot, ray_right_foot);
+    const int b3 = gmsh::model::geo::addLine(ray_right_foot, pt.back());
+    const int axis = gmsh::model::geo::addLine(foot, pt[a]);
+    const int ray_left = gmsh::model::geo::addLine(ray_left_foot, pt[a]);
+    const int ray_right = gmsh::model::geo::addLine(ray_right_foot, pt[a]);
+    base = {b0, b1, b2, b3};
+    std::vector<int> outer_left = {b0, ray_left};
+    for (auto it = left_flank.rbegin(); it != left_flank.rend(); ++it) outer_left.push_back(-*it);
+    const std::vector<int> inner_left = {b1, axis, -ray_left};
+    const std::vector<int> inner_right = {b2, ray_right, -axis};
+    std::vector<int> outer_right = {b3};
+    for (auto it = right_flank.rbegin(); it != right_flank.rend(); ++it) outer_right.push_back(-*it);
+    outer_right.push_back(-ray_right);
+    for (const auto& loop : {outer_left, inner_left, inner_right, outer_right})
+      surfaces.push_back(gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)}));
+  } else if (split) {
     const int foot = gmsh::model::geo::addPoint(s[a].x(), 0.0, 0.0, axis_size);
     const int base_left = gmsh::model::geo::addLine(pt.front(), foot);
     const int base_right = gmsh::model::geo::addLine(foot, pt.back());
@@ -159,6 +185,9 @@ MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
   spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
   spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
   spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);
+  spec.embed_rays = r.get_bool("mesh.embed_fpa_rays", spec.embed_rays);
+  if (spec.embed_rays && (spec.kind != MeshSpec::Kind::wedge || !spec.embed_axis))
+    throw InputError(r.source() + ": mesh.embed_fpa_rays needs mesh.kind = \"wedge\" and mesh.embed_axis = true");
   return spec;
 }
 

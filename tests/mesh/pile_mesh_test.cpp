@@ -56,6 +56,26 @@ TEST(PileMesh, AsymmetricWedgeIsTiledExactlyWithTaggedBoundaries) {
   EXPECT_GE(on_axis, static_cast<int>(h / 0.01));
 }
 
+// With the FPA rays embedded, element edges run along both characteristics from the apex,
+// at psi = 45 - phi/2 degrees from the vertical, down to the base.
+TEST(PileMesh, FpaRaysAreMeshEdges) {
+  MeshSpec spec;
+  spec.wedge = {0.33, 28.0, 22.0, 0.0};
+  spec.element_size_m = 0.02;
+  spec.embed_rays = true;
+  const std::string path = temp_path("rays.msh");
+  write_mesh(spec, path);
+  const TriangleMesh m = read_triangle_mesh(path);
+  const double h = 0.33, tl = std::tan(28.0 * M_PI / 180), tr = std::tan(22.0 * M_PI / 180);
+  EXPECT_NEAR(mesh_area(m), 0.5 * h * h * (1 / tl + 1 / tr), 1e-12);
+  for (double phi : {28.0, 22.0}) {
+    const double t = std::tan((45.0 - phi / 2) * M_PI / 180), side = phi == 28.0 ? -1.0 : 1.0;
+    int on_ray = 0;
+    for (const auto& p : m.nodes) on_ray += std::abs(p.x() - side * (h - p.y()) * t) < 1e-12 && p.y() < h - 1e-9;
+    EXPECT_GE(on_ray, static_cast<int>(h / 0.02)) << phi;
+  }
+}
+
 TEST(PileMesh, BlockHasBaseSideWallsAndTop) {
   MeshSpec spec;
   spec.kind = MeshSpec::Kind::block;

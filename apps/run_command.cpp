@@ -123,7 +123,8 @@ void closed_loop(const std::string& scene_path, const std::string& out_dir, cons
     toml::table root;
     toml::table c;
     c.insert("models", toml::array{"elastic"});
-    c.insert("mesh_file", coarse["mesh_file"].get<std::string>());  // the mesh the fields live on
+    // The mesh the fields live on; absolute, since the child resolves paths from its scene's dir.
+    c.insert("mesh_file", std::filesystem::absolute(coarse["mesh_file"].get<std::string>()).string());
     c.insert("density_kg_per_m2", coarse["rho_bulk_kg_per_m2"].get<double>());
     c.insert("gravity_m_per_s2", coarse["gravity_m_per_s2"].get<double>());
     toml::table e;

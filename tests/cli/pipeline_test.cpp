@@ -1,6 +1,10 @@
 // `pilelab run` end to end on the tiny pile: every stage, every output readable by tools
 // pilelab did not write (h5py, meshio), report.json with every documented key; a second run
 // skips the unchanged stages.
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
 #include "cli_test_support.h"
 
 using pilelab::test::CliTest;
@@ -9,7 +13,9 @@ class Pipeline : public CliTest {};
 
 TEST_F(Pipeline, TinySceneThroughEveryStage) {
   const std::string scene = std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny_pipeline.toml";
-  const auto first = run("run " + scene + " -o " + path("out") + " -q");
+  // A relative output directory, as users type it: every stage must resolve paths the same way.
+  const std::string out = std::filesystem::relative(path("out")).string();
+  const auto first = run("run " + scene + " -o " + out + " -q");
   ASSERT_EQ(first.exit_code, 0) << first.output;
   std::string sections = "dem mesh coarse compare fit";
 #ifdef PILELAB_WITH_CONTINUUM
@@ -24,10 +30,39 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
   s << log.rdbuf();
   EXPECT_EQ(status, 0) << s.str();
 
-  const auto second = run("run " + scene + " -o " + path("out"));
+  const auto second = run("run " + scene + " -o " + out);
   ASSERT_EQ(second.exit_code, 0) << second.output;
   for (const char* stage : {"dem", "mesh", "coarse", "compare"})
     EXPECT_NE(second.output.find(std::string(stage) + std::string(8 - std::string(stage).size(), ' ') + " skipped"),
               std::string::npos)
         << stage << " was not skipped:\n" << second.output;
+}
+
+// A pipeline without a DEM stage, on a pile poured elsewhere (the coarse tests' fixture), with
+// a relative output directory: mesh, coarse, solve, compare, and the fit's closed loop.
+TEST_F(Pipeline, ExistingPileThroughTheClosedLoop) {
+#ifndef PILELAB_WITH_CONTINUUM
+  GTEST_SKIP() << "built without the continuum module";
+#else
+  const std::string pile = PILELAB_SMALL_PILE;
+  ASSERT_TRUE(std::filesystem::exists(pile)) << "run through ctest: the fixture pour_small_pile makes " << pile;
+  const std::string scene = write_scene("scene.toml", "[mesh]\nkind = \"dem_outline\"\ndem_file = \"" + pile +
+                                                          "\"\nelement_size_m = 0.005\n[coarse]\ndem_files = [\"" + pile +
+                                                          "\"]\nrve_radius_m = 0.012\n[continuum]\n[continuum.elastic]\n"
+                                                          "degree = 1\n[compare]\nfit_resamples = 20\n");
+  // Run from the test directory with OUT given as "out": paths relative to the working directory.
+  const std::string cmd = "cd " + dir_.string() + " && " + PILELAB_BINARY + " run " + scene + " -o out -q > run.log 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream log(path("run.log"));
+  std::stringstream text;
+  text << log.rdbuf();
+  ASSERT_EQ(status, 0) << text.str();
+  std::ifstream in(path("out/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_FALSE(report.contains("dem"));
+  const auto& loop = report["fit"]["closed_loop"];
+  ASSERT_TRUE(loop.contains("relative_l2_displacement")) << loop.dump();
+  EXPECT_TRUE(std::isfinite(loop["relative_l2_displacement"].get<double>()));
+  EXPECT_NEAR(report["coarse"]["gravity_change"].get<double>(), -0.1, 1e-12);
+#endif
 }

@@ -63,12 +63,6 @@ Domain domain_of(const mesh::TriangleMesh& m) {
   return d;
 }
 
-double mesh_area(const mesh::TriangleMesh& m) {
-  double a = 0;
-  for (const auto& t : m.triangles) a += 0.5 * dem::cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
-  return a;
-}
-
 // x extent of the domain along the horizontal line at height y (from its boundary edges).
 std::pair<double, double> x_range_at(const Domain& d, double y) {
   double lo = INFINITY, hi = -INFINITY;
@@ -190,7 +184,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
 
   const mesh::TriangleMesh mesh = mesh::read_triangle_mesh(settings.mesh_file);
   const Domain domain = domain_of(mesh);
-  const double area = mesh_area(mesh);
+  const double area = mesh::mesh_area(mesh);
 
   // The piles.
   std::vector<Pile> piles;

@@ -55,6 +55,19 @@ Packing packing_from_snapshot(const dem::DemFile& file, const dem::Snapshot& s) 
   return p;
 }
 
+void grain_displacements(const Packing& from, const Packing& to, std::vector<Vec2>& displacement,
+                         std::vector<char>& moved) {
+  const std::vector<int> index = to.index_by_body();
+  displacement.assign(from.grains.size(), Vec2::Zero());
+  moved.assign(from.grains.size(), 0);
+  for (std::size_t p = 0; p < from.grains.size(); ++p) {
+    const auto body = from.grains[p].body;
+    if (body < 0 || body >= static_cast<std::int64_t>(index.size()) || index[body] < 0) continue;
+    displacement[p] = to.grains[index[body]].centre - from.grains[p].centre;
+    moved[p] = 1;
+  }
+}
+
 std::vector<Vec2> world_outline(const Grain& g) {
   std::vector<Vec2> out;
   if (!g.shape || g.shape->kind == dem::ShapeKind::disc) return out;

@@ -44,6 +44,11 @@ struct Packing {
 /// The grains and contacts of a snapshot of dem.h5. Wall contacts keep their point and force.
 Packing packing_from_snapshot(const dem::DemFile& file, const dem::Snapshot& snapshot);
 
+/// Grain-centre displacements from `from` to `to`, grains matched by body: displacement[p] for
+/// grain p of `from`, and moved[p] = 0 for grains missing from `to`.
+void grain_displacements(const Packing& from, const Packing& to, std::vector<Vec2>& displacement,
+                         std::vector<char>& moved);
+
 /// Grain outline in the world frame (polygon corners; a disc gives an empty vector).
 std::vector<Vec2> world_outline(const Grain& grain);
 

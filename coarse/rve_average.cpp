@@ -73,15 +73,7 @@ RveAverager::RveAverager(const Packing& packing, Domain domain, bool clip_volume
 }
 
 void RveAverager::set_displacements(const Packing& later) {
-  const std::vector<int> index = later.index_by_body();
-  displacement_.assign(packing_.grains.size(), Vec2::Zero());
-  has_displacement_.assign(packing_.grains.size(), 0);
-  for (std::size_t p = 0; p < packing_.grains.size(); ++p) {
-    const auto body = packing_.grains[p].body;
-    if (body < 0 || body >= static_cast<std::int64_t>(index.size()) || index[body] < 0) continue;
-    displacement_[p] = later.grains[index[body]].centre - packing_.grains[p].centre;
-    has_displacement_[p] = 1;
-  }
+  grain_displacements(packing_, later, displacement_, has_displacement_);
 }
 
 RveSample RveAverager::average(const Vec2& point, double radius) const {

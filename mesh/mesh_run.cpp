@@ -26,9 +26,7 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
   write_mesh(spec, msh);
   const TriangleMesh mesh = read_triangle_mesh(msh);
 
-  double area = 0;
-  for (const auto& t : mesh.triangles)
-    area += 0.5 * dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
+  const double area = mesh_area(mesh);
   double height = 0;
   for (const auto& p : mesh.nodes) height = std::max(height, p.y());
   const char* kinds[] = {"wedge", "block", "dem_outline"};

@@ -240,6 +240,12 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
   });
 }
 
+double mesh_area(const TriangleMesh& m) {
+  double a = 0;
+  for (const auto& t : m.triangles) a += 0.5 * dem::cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
+  return a;
+}
+
 TriangleMesh read_triangle_mesh(const std::string& path) {
   {
     std::ifstream probe(path);

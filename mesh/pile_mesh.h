@@ -73,6 +73,9 @@ struct TriangleMesh {
   std::vector<int> boundary_edge_ids;          ///< a BoundaryId per boundary edge
 };
 
+/// Total area of the triangles [m^2].
+double mesh_area(const TriangleMesh& mesh);
+
 /// Reads a 2D linear-triangle mesh from an MSH file. Throws InputError naming the file when
 /// it is missing, unreadable, holds no triangles, or holds inverted (clockwise) triangles.
 TriangleMesh read_triangle_mesh(const std::string& msh_path);

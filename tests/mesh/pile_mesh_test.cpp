@@ -19,13 +19,6 @@ std::string temp_path(const std::string& name) {
   return (dir / name).string();
 }
 
-double mesh_area(const TriangleMesh& m) {
-  double a = 0;
-  for (const auto& t : m.triangles)
-    a += 0.5 * pilelab::dem::cross(m.nodes[t[1]] - m.nodes[t[0]], m.nodes[t[2]] - m.nodes[t[0]]);
-  return a;
-}
-
 std::map<int, double> boundary_lengths(const TriangleMesh& m) {
   std::map<int, double> len;
   for (std::size_t e = 0; e < m.boundary_edges.size(); ++e)

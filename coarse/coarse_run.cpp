@@ -101,7 +101,15 @@ Stat stat_of(const std::vector<double>& v) {
 // The sampled fields of all piles at a list of points: value[q][point] over piles.
 struct Samples {
   std::vector<std::vector<Stat>> stats;  ///< [quantity][point]
+  /// Ensembles: each pile's own values of the fit's quantities, [name][pile][point] (NaN: no
+  /// data), so that fits can be bootstrapped over piles.
+  std::map<std::string, std::vector<std::vector<double>>> per_pile;
 };
+
+// The quantities a stress-strain fit needs, kept per pile in ensembles.
+const std::vector<std::string> fit_quantities = {"stress_change_xx", "stress_change_yy", "stress_change_xy",
+                                                 "strain_xx", "strain_yy", "strain_xy", "fabric_xx",
+                                                 "fabric_yy", "fabric_xy", "pressure"};
 
 std::string format_double(double v) {
   std::ostringstream s;
@@ -167,6 +175,8 @@ void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool 
       f.write("/fields/" + qs[q].name + "_stderr", err, {}, qs[q].unit);
       f.write("/fields/" + qs[q].name + "_count", count);
     }
+    for (const auto& [name, piles] : samples.per_pile)
+      for (std::size_t k = 0; k < piles.size(); ++k) f.write("/piles/" + std::to_string(k) + "/" + name, piles[k], {}, "");
   });
 }
 
@@ -323,15 +333,25 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   // Each quantity at each point: the value of the ensemble-mean sample (tensors averaged,
   // then derived), and the standard error of the per-pile values (axes unwrapped to within
   // 90 degrees of the mean before their spread is taken).
-  auto sample_all = [&](const std::vector<Vec2>& points) {
+  auto sample_all = [&](const std::vector<Vec2>& points, bool keep_piles) {
     const auto& qs = quantities();
     Samples out;
     out.stats.assign(qs.size(), std::vector<Stat>(points.size()));
+    std::vector<std::size_t> kept;  // indices into qs of the per-pile quantities
+    if (keep_piles && piles.size() > 1)
+      for (std::size_t q = 0; q < qs.size(); ++q)
+        if (std::find(fit_quantities.begin(), fit_quantities.end(), qs[q].name) != fit_quantities.end()) {
+          kept.push_back(q);
+          out.per_pile[qs[q].name].assign(piles.size(), std::vector<double>(points.size(), NAN));
+        }
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::size_t i = 0; i < points.size(); ++i) {
       std::vector<RveSample> per_pile;
       for (const Pile& p : piles) per_pile.push_back(sample(p, points[i]));
       const RveSample mean = mean_sample(per_pile);
+      for (std::size_t q : kept)
+        for (std::size_t k = 0; k < per_pile.size(); ++k)
+          if (const auto v = qs[q].value(per_pile[k])) out.per_pile[qs[q].name][k][i] = *v;
       for (std::size_t q = 0; q < qs.size(); ++q) {
         const auto m = qs[q].value(mean);
         std::vector<double> values;
@@ -357,7 +377,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   else
     for (const auto& t : mesh.triangles) points.push_back((mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0);
   const auto fields_start = Clock::now();
-  const Samples fields = sample_all(points);
+  const Samples fields = sample_all(points, true);
   const double fields_seconds = std::chrono::duration<double>(Clock::now() - fields_start).count();
 
   // Profiles along horizontal cuts, stresses over rho g h and compression positive.
@@ -369,7 +389,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     if (!(lo < hi)) continue;
     std::vector<Vec2> cut;
     for (double x : profile_points(lo, hi, settings.profile_points)) cut.emplace_back(x, y);
-    const Samples s = sample_all(cut);
+    const Samples s = sample_all(cut, false);
     const auto& qs = quantities();
     for (std::size_t q = 0; q < qs.size(); ++q) {
       const bool stress = qs[q].is_stress || qs[q].name == "pressure";

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <sstream>
 
 #include "common/atomic_file.h"
@@ -64,8 +65,46 @@ std::vector<std::size_t> thin(const std::vector<Vec2>& points, const std::vector
   return kept;
 }
 
-nlohmann::json fit_section(const PointFields& dem, double spacing, int resamples, int folds, unsigned seed,
-                           std::vector<FitSample>* samples_out, std::vector<FitResult>* fits_out) {
+// The fit's quantities of each pile of an ensemble (fields.h5 /piles/K/Q), or none.
+using PileValues = std::vector<std::map<std::string, std::vector<double>>>;
+
+PileValues read_pile_values(const std::string& fields_path) {
+  PileValues piles;
+  const H5File f = H5File::open_read(fields_path);
+  if (!f.exists("/piles")) return piles;
+  for (const std::string& k : f.list("/piles")) {
+    std::map<std::string, std::vector<double>> values;
+    for (const std::string& q : f.list("/piles/" + k)) values[q] = f.read_doubles("/piles/" + k + "/" + q);
+    piles.push_back(std::move(values));
+  }
+  return piles;
+}
+
+// A sample at point i from the mean over the chosen piles (false if a quantity has no data).
+bool pile_mean_sample(const PileValues& piles, const std::vector<std::size_t>& chosen, std::size_t i,
+                      const Vec2& point, FitSample& s) {
+  std::map<std::string, double> mean;
+  for (const auto& [name, values] : piles.front()) {
+    (void)values;
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k : chosen) {
+      const double v = piles[k].at(name)[i];
+      if (std::isfinite(v)) sum += v, ++n;
+    }
+    if (n == 0) return false;
+    mean[name] = sum / n;
+  }
+  s.point = point;
+  s.stress_change << mean["stress_change_xx"], mean["stress_change_xy"], mean["stress_change_xy"], mean["stress_change_yy"];
+  s.strain << mean["strain_xx"], mean["strain_xy"], mean["strain_xy"], mean["strain_yy"];
+  s.fabric << mean["fabric_xx"], mean["fabric_xy"], mean["fabric_xy"], mean["fabric_yy"];
+  s.pressure = mean["pressure"];
+  return true;
+}
+
+nlohmann::json fit_section(const PointFields& dem, const PileValues& piles, double spacing, int resamples, int folds,
+                           unsigned seed, std::vector<FitSample>* samples_out, std::vector<FitResult>* fits_out) {
   const char* needed[] = {"stress_change_xx", "stress_change_yy", "stress_change_xy", "strain_xx", "strain_yy",
                           "strain_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure"};
   for (const char* q : needed)
@@ -86,8 +125,34 @@ nlohmann::json fit_section(const PointFields& dem, double spacing, int resamples
     s.pressure = dem.at("pressure")[i];
     samples.push_back(s);
   }
+  // With an ensemble, the intervals come from resampling whole piles (the fields at every
+  // point re-averaged over the drawn piles); with one pile, from resampling the points.
+  const bool over_piles = piles.size() >= 2;
   nlohmann::json section = {{"samples", samples.size()}, {"sample_spacing_m", spacing}, {"bootstrap_resamples", resamples},
+                            {"bootstrap_over", over_piles ? "piles" : "points"}, {"piles", std::max<std::size_t>(piles.size(), 1)},
                             {"folds", folds}};
+  double p_ref = 0;
+  for (const auto& x : samples) p_ref += x.pressure / std::max<std::size_t>(samples.size(), 1);
+  std::map<FitModel, std::vector<std::vector<double>>> pile_draws;  // model -> parameter -> draws
+  if (over_piles) {
+    std::mt19937_64 rng(seed);
+    std::uniform_int_distribution<std::size_t> pick(0, piles.size() - 1);
+    for (int b = 0; b < resamples; ++b) {
+      std::vector<std::size_t> chosen(piles.size());
+      for (auto& k : chosen) k = pick(rng);
+      std::vector<FitSample> drawn;
+      FitSample x;
+      for (std::size_t i : kept)
+        if (pile_mean_sample(piles, chosen, i, dem.points[i], x)) drawn.push_back(x);
+      for (FitModel m : {FitModel::isotropic, FitModel::orthotropic_fabric, FitModel::pressure_dependent}) {
+        const FitResult f = fit(drawn, m, p_ref);
+        if (!f.ok) continue;
+        auto& d = pile_draws[m];
+        d.resize(f.parameters.size());
+        for (std::size_t k = 0; k < f.parameters.size(); ++k) d[k].push_back(f.parameters[k]);
+      }
+    }
+  }
   nlohmann::json models = nlohmann::json::object();
   std::string best;
   double best_aic = INFINITY;
@@ -98,7 +163,14 @@ nlohmann::json fit_section(const PointFields& dem, double spacing, int resamples
     nlohmann::json j = {{"r2", f.r2}, {"rss", f.rss}, {"aic", f.aic}, {"cv_rms_N_per_m", f.cv_rms}};
     for (std::size_t k = 0; k < f.parameters.size(); ++k) {
       j[f.parameter_names[k]] = f.parameters[k];
-      if (k < f.ci_low.size()) j[f.parameter_names[k] + "_ci95"] = {f.ci_low[k], f.ci_high[k]};
+      if (over_piles && k < pile_draws[m].size() && !pile_draws[m][k].empty()) {
+        auto d = pile_draws[m][k];
+        std::sort(d.begin(), d.end());
+        j[f.parameter_names[k] + "_ci95"] = {d[static_cast<std::size_t>(0.025 * (d.size() - 1))],
+                                             d[static_cast<std::size_t>(0.975 * (d.size() - 1))]};
+      } else if (k < f.ci_low.size()) {
+        j[f.parameter_names[k] + "_ci95"] = {f.ci_low[k], f.ci_high[k]};
+      }
     }
     models[f.name] = j;
     if (f.aic < best_aic) best_aic = f.aic, best = f.name;
@@ -171,7 +243,8 @@ nlohmann::json run_fit(const FitOptions& opt) {
   std::filesystem::create_directories(opt.out_dir);
   std::vector<FitSample> samples;
   std::vector<FitResult> fits;
-  const nlohmann::json section = fit_section(dem, spacing, opt.resamples, opt.folds, opt.seed, &samples, &fits);
+  const nlohmann::json section =
+      fit_section(dem, read_pile_values(opt.fields_path), spacing, opt.resamples, opt.folds, opt.seed, &samples, &fits);
   write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
   write_report_section(in_dir(opt.out_dir, "report.json"), "fit", section);
   return section;
@@ -390,7 +463,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
     std::vector<FitSample> samples;
     std::vector<FitResult> fits;
-    const nlohmann::json fit = fit_section(dem, spacing, resamples, folds, seed, &samples, &fits);
+    const nlohmann::json fit =
+        fit_section(dem, read_pile_values(fields_path), spacing, resamples, folds, seed, &samples, &fits);
     write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
     write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
   }

@@ -127,6 +127,10 @@ FitResult fit(const std::vector<FitSample>& samples, FitModel model) {
   return fit_once(samples, model, mean_pressure_of(samples));
 }
 
+FitResult fit(const std::vector<FitSample>& samples, FitModel model, double reference_pressure) {
+  return fit_once(samples, model, reference_pressure);
+}
+
 Tensor predict(const FitResult& f, const FitSample& s, double p_mean) {
   const Tensor I = Tensor::Identity();
   switch (f.model) {

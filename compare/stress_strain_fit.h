@@ -49,6 +49,8 @@ struct FitResult {
 };
 
 FitResult fit(const std::vector<FitSample>& samples, FitModel model);
+/// As above with the pressure-dependent law's reference pressure given (for resampling).
+FitResult fit(const std::vector<FitSample>& samples, FitModel model, double reference_pressure);
 
 /// The fit with bootstrap intervals (resamples, seed) and k-fold cross-validation.
 FitResult fit_with_uncertainty(const std::vector<FitSample>& samples, FitModel model, int resamples,

@@ -162,6 +162,9 @@ TEST_F(CoarseRun, EnsembleMeanAndStandardError) {
   };
   const auto one = scene("one", "\"dem.h5\""), two = scene("two", "\"" + b + "\"");
   const auto both = scene("both", "\"dem.h5\", \"" + b + "\"");
+  // Each pile's own fit quantities, for bootstrapping fits over piles.
+  EXPECT_TRUE(both.exists("/piles/1/strain_yy"));
+  EXPECT_EQ(both.read_doubles("/piles/0/pressure").size(), one.read_doubles("/fields/pressure").size());
   for (const char* q : {"stress_yy", "volume_fraction", "coordination"}) {
     const auto a = one.read_doubles(std::string("/fields/") + q), c = two.read_doubles(std::string("/fields/") + q);
     const auto na = one.read_ints(std::string("/fields/") + q + "_count"), nc = two.read_ints(std::string("/fields/") + q + "_count");

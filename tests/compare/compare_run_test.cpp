@@ -96,6 +96,47 @@ TEST(CompareRun, ElasticFieldIsFittedBackToItsConstants) {
   std::filesystem::remove_all(dir);
 }
 
+// An ensemble of two piles with the same strains and moduli lambda_1, lambda_2: resampling
+// whole piles draws {1,1}, {2,2} or {1,2} (a quarter of the time each extreme), so the 95 %
+// interval of lambda runs exactly from lambda_1 to lambda_2.
+TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
+  const std::string dir = temp_dir("pilelab_fit_piles");
+  const double mu = 1.0e6, l1 = 2.0e6, l2 = 4.0e6;
+  const Synthetic a = elastic_field(l1, mu), b = elastic_field(l2, mu);
+  Synthetic mean = elastic_field(0.5 * (l1 + l2), mu);
+  write_fields(dir + "/fields.h5", mean);
+  {
+    // Append the per-pile values as coarse/ writes them for ensembles.
+    const std::string tmp = dir + "/with_piles.h5";
+    H5File h = H5File::create(tmp);
+    h.set_attribute("/", "format", std::string("pilelab-fields"));
+    h.set_attribute("/", "rve_radius_m", 0.1);
+    const std::uint64_t k = mean.xy.size() / 2;
+    h.write("/mesh/nodes", mean.xy, {k, 2}, "m");
+    h.write("/mesh/triangles", mean.triangles, {mean.triangles.size() / 3, 3});
+    h.write("/fields/points", mean.xy, {k, 2}, "m");
+    h.set_attribute("/fields", "location", std::string("nodes"));
+    for (const auto& [name, v] : mean.fields) {
+      h.write("/fields/" + name, v);
+      h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), 2));
+      h.write("/piles/0/" + name, a.fields.at(name));
+      h.write("/piles/1/" + name, b.fields.at(name));
+    }
+  }
+  compare::FitOptions opt;
+  opt.fields_path = dir + "/with_piles.h5";
+  opt.out_dir = dir;
+  opt.resamples = 400;
+  const auto fit = compare::run_fit(opt);
+  EXPECT_EQ(fit["bootstrap_over"].get<std::string>(), "piles");
+  const auto& iso = fit["models"]["isotropic"];
+  EXPECT_NEAR(iso["lambda_N_per_m"].get<double>(), 0.5 * (l1 + l2), 1e-6 * l2);
+  EXPECT_NEAR(iso["lambda_N_per_m_ci95"][0].get<double>(), l1, 1e-6 * l2);
+  EXPECT_NEAR(iso["lambda_N_per_m_ci95"][1].get<double>(), l2, 1e-6 * l2);
+  EXPECT_NEAR(iso["mu_N_per_m_ci95"][0].get<double>(), mu, 1e-6 * mu);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(CompareRun, IdenticalModelDiffersByZero) {
   const std::string dir = temp_dir("pilelab_compare_run");
   const Synthetic s = elastic_field(3e6, 1e6);

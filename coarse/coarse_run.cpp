@@ -12,6 +12,8 @@
 #include "coarse/coarse_scene.h"
 #include "coarse/kernel_average.h"
 #include "coarse/quantities.h"
+#include "coarse/rve_study.h"
+#include "coarse/virial_identity.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/hdf5_file.h"
@@ -110,12 +112,6 @@ struct Samples {
 const std::vector<std::string> fit_quantities = {"stress_change_xx", "stress_change_yy", "stress_change_xy",
                                                  "strain_xx", "strain_yy", "strain_xy", "fabric_xx",
                                                  "fabric_yy", "fabric_xy", "pressure"};
-
-std::string format_double(double v) {
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
 
 void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
                bool with_stderr) {
@@ -252,57 +248,15 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       if (n.y() > top) top = n.y(), axis = n.x();
     study_points = {{axis, y}, {0.5 * (lo + axis), y}, {0.5 * (axis + hi), y}};
   }
-  std::ostringstream study_csv;
-  study_csv << "point,x_m,y_m,radius_m,grain_count,quantity,value\n";
-  const std::vector<std::string> study_quantities = {"stress_xx", "stress_yy", "stress_xy", "fabric_xx", "fabric_yy",
-                                                     "fabric_xy", "coordination", "volume_fraction", "strain_xx",
-                                                     "strain_yy", "strain_xy"};
-  double chosen_count = 0;
-  nlohmann::json study_json = nlohmann::json::array();
-  for (std::size_t k = 0; k < study_points.size(); ++k) {
-    const Vec2 p = study_points[k];
-    std::vector<double> counts, radii;
-    std::vector<std::vector<double>> values(study_quantities.size());
-    for (double r = 0.75 * diameter;; r *= 1.12) {
-      const RveSample s = piles.front().rve->average(p, r);
-      counts.push_back(s.grain_count);
-      radii.push_back(r);
-      for (std::size_t q = 0; q < study_quantities.size(); ++q) {
-        const auto& table = quantities();
-        const auto it = std::find_if(table.begin(), table.end(), [&](const Quantity& x) { return x.name == study_quantities[q]; });
-        const auto v = it->value(s);
-        values[q].push_back(v ? *v : NAN);
-        if (v)
-          study_csv << k << ',' << p.x() << ',' << p.y() << ',' << r << ',' << s.grain_count << ',' << study_quantities[q]
-                    << ',' << format_double(*v) << '\n';
-      }
-      if (s.grain_count >= settings.study_max_grain_count || r > 4 * mean_height) break;
-    }
-    // Converged at size i when every later size stays within tolerance of it, measured
-    // against the largest size's magnitude (per tensor: its largest component).
-    const std::size_t last = counts.size() - 1;
-    std::size_t converged = last;
-    for (std::size_t i = 0; i <= last; ++i) {
-      bool ok = counts[i] >= 2;
-      for (std::size_t q = 0; q < study_quantities.size() && ok; ++q) {
-        const std::size_t group = q < 3 ? 0 : q < 6 ? 3 : q < 8 ? q : 8;  // tensors share a scale
-        double scale = 0;
-        for (std::size_t g = group; g < group + (group == 0 || group == 3 || group == 8 ? 3 : 1); ++g)
-          if (!std::isnan(values[g][last])) scale = std::max(scale, std::abs(values[g][last]));
-        if (std::isnan(values[q][last])) continue;
-        for (std::size_t j = i; j <= last && ok; ++j)
-          ok = !std::isnan(values[q][j]) && std::abs(values[q][j] - values[q][i]) <= settings.study_tolerance * scale;
-      }
-      if (ok) {
-        converged = i;
-        break;
-      }
-    }
-    chosen_count = std::max(chosen_count, counts[converged]);
-    study_json.push_back({{"x_m", p.x()}, {"y_m", p.y()}, {"converged_grain_count", counts[converged]},
-                          {"converged_radius_m", radii[converged]}, {"largest_grain_count", counts[last]}});
-  }
-  write_text_atomically((std::filesystem::path(opt.out_dir) / "rve_study.csv").string(), study_csv.str());
+  RveStudySettings study_settings;
+  study_settings.first_radius_m = 0.75 * diameter;
+  study_settings.max_grain_count = settings.study_max_grain_count;
+  study_settings.max_radius_m = 4 * mean_height;
+  study_settings.tolerance = settings.study_tolerance;
+  const RveStudy study = rve_size_study(*piles.front().rve, study_points, study_settings);
+  const double chosen_count = study.chosen_grain_count;
+  const nlohmann::json& study_json = study.points;
+  write_text_atomically((std::filesystem::path(opt.out_dir) / "rve_study.csv").string(), study.csv);
 
   const double grain_count_target = settings.rve_grain_count > 0 ? settings.rve_grain_count : chosen_count;
   const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : radius_for(grain_count_target);
@@ -406,27 +360,16 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   // The virial identity (sum of grain stresses = gravity + wall terms - settling residual).
   nlohmann::json identity = nlohmann::json::array();
   for (const Pile& p : piles) {
-    Tensor lhs = Tensor::Zero(), wall = Tensor::Zero(), weight = Tensor::Zero(), residual = Tensor::Zero();
-    for (const Contact& c : p.packing->contacts) {
-      const Vec2 xa = c.point - p.packing->grains[c.a].centre;
-      lhs += c.force_on_a * xa.transpose();
-      if (c.b >= 0) lhs += -c.force_on_a * (c.point - p.packing->grains[c.b].centre).transpose();
-      else wall += c.force_on_a * c.point.transpose();
-    }
-    double scale = 0;  // the virial's natural size: sum_p m_p |g| |r_p|
-    for (const Grain& g : p.packing->grains) {
-      weight += g.mass * p.packing->gravity * g.centre.transpose();
-      residual += g.residual_force * g.centre.transpose();
-      scale += g.mass * p.packing->gravity.norm() * g.centre.norm();
-    }
+    const VirialIdentity v = virial_identity(*p.packing);
     identity.push_back({{"dem_file", p.path},
-                        {"virial_yy_N_m", lhs(1, 1)},
-                        {"gravity_yy_N_m", weight(1, 1)},
-                        {"wall_yy_N_m", wall(1, 1)},
-                        {"settling_residual_yy_N_m", residual(1, 1)},
-                        {"relative_mismatch", (lhs - wall - weight).norm() / scale},
-                        {"relative_mismatch_yy", std::abs(lhs(1, 1) - wall(1, 1) - weight(1, 1)) / std::abs(weight(1, 1))},
-                        {"relative_mismatch_with_residual", (lhs - wall - weight + residual).norm() / scale}});
+                        {"virial_yy_N_m", v.grain_sum(1, 1)},
+                        {"gravity_yy_N_m", v.gravity(1, 1)},
+                        {"wall_yy_N_m", v.wall(1, 1)},
+                        {"settling_residual_yy_N_m", v.residual(1, 1)},
+                        {"relative_mismatch", v.relative_mismatch()},
+                        {"relative_mismatch_yy",
+                         std::abs(v.grain_sum(1, 1) - v.wall(1, 1) - v.gravity(1, 1)) / std::abs(v.gravity(1, 1))},
+                        {"relative_mismatch_with_residual", v.relative_mismatch_with_residual()}});
   }
 
   // Madadi's g2 = tr<F> / (v C) (paper eq. 23), averaged over the field points with data.

@@ -205,6 +205,27 @@ void write_fit_samples(const std::string& path, const std::vector<FitSample>& sa
   write_text_atomically(path, out.str());
 }
 
+// Relative L2 differences of the elastic displacement (both components together) and of the
+// strain components, model against DEM, on the DEM's mesh.
+nlohmann::json displacement_and_strain_differences(const Triangulation& mesh, const PointFields& model,
+                                                   const PointFields& dem) {
+  nlohmann::json out = nlohmann::json::object();
+  if (model.has("displacement_x") && dem.has("displacement_x")) {
+    const L2Difference x = l2_difference(mesh, model.at("displacement_x"), model.valid.at("displacement_x"),
+                                         dem.at("displacement_x"), dem.valid.at("displacement_x"));
+    const L2Difference y = l2_difference(mesh, model.at("displacement_y"), model.valid.at("displacement_y"),
+                                         dem.at("displacement_y"), dem.valid.at("displacement_y"));
+    const double ref = std::hypot(x.reference, y.reference);
+    out["relative_l2_displacement"] = x.area == 0 ? NAN : ref > 0 ? std::hypot(x.difference, y.difference) / ref : 0.0;
+    out["relative_l2_displacement_y"] = y.relative;
+  }
+  for (const char* c : {"strain_xx", "strain_yy", "strain_xy"})
+    if (model.has(c) && dem.has(c))
+      out[std::string("relative_l2_") + c] = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
+  return out;
+}
+
+
 }  // namespace
 
 nlohmann::json compare_displacements(const std::string& fields_path, const std::string& models_path,
@@ -218,20 +239,7 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
   double height = 0;
   for (const Vec2& p : mesh.nodes) height = std::max(height, p.y());
   const PointFields model = reindex(raw, match_points(raw.points, dem.points, 1e-9 * height), dem.points.size());
-  nlohmann::json out = nlohmann::json::object();
-  if (model.has("displacement_x") && dem.has("displacement_x")) {
-    const L2Difference x = l2_difference(mesh, model.at("displacement_x"), model.valid.at("displacement_x"),
-                                         dem.at("displacement_x"), dem.valid.at("displacement_x"));
-    const L2Difference y = l2_difference(mesh, model.at("displacement_y"), model.valid.at("displacement_y"),
-                                         dem.at("displacement_y"), dem.valid.at("displacement_y"));
-    const double ref = std::hypot(x.reference, y.reference);
-    out["relative_l2_displacement"] = ref > 0 ? std::hypot(x.difference, y.difference) / ref : 0.0;
-    out["relative_l2_displacement_y"] = y.relative;
-  }
-  for (const char* c : {"strain_xx", "strain_yy", "strain_xy"})
-    if (model.has(c) && dem.has(c))
-      out[std::string("relative_l2_") + c] = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
-  return out;
+  return displacement_and_strain_differences(mesh, model, dem);
 }
 
 nlohmann::json run_fit(const FitOptions& opt) {
@@ -345,19 +353,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
         m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
         add_field(name + "_axis_angle_to_dem_deg", angle, ok);
       }
-      for (const char* c : {"strain_xx", "strain_yy", "strain_xy"}) {
-        if (!model.has(c) || !dem.has(c)) continue;
-        m[std::string("relative_l2_") + c] =
-            l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
-      }
+      m.update(displacement_and_strain_differences(mesh, model, dem));
       if (model.has("displacement_x") && dem.has("displacement_x")) {
-        // || u_model - u_dem || / || u_dem || over both components.
-        const L2Difference x = l2_difference(mesh, model.at("displacement_x"), model.valid.at("displacement_x"),
-                                             dem.at("displacement_x"), dem.valid.at("displacement_x"));
-        const L2Difference y = l2_difference(mesh, model.at("displacement_y"), model.valid.at("displacement_y"),
-                                             dem.at("displacement_y"), dem.valid.at("displacement_y"));
-        const double ref = std::hypot(x.reference, y.reference);
-        m["relative_l2_displacement"] = ref > 0 ? std::hypot(x.difference, y.difference) / ref : 0.0;
         add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
         add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
       }

@@ -52,7 +52,8 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
   return s;
 }
 
-void write_fields(const std::string& path, const Synthetic& s) {
+// fields.h5 as coarse/ writes it; an ensemble's piles go to /piles/K as well.
+void write_fields(const std::string& path, const Synthetic& s, const std::vector<const Synthetic*>& piles = {}) {
   H5File h = H5File::create(path);
   h.set_attribute("/", "format", std::string("pilelab-fields"));
   h.set_attribute("/", "rve_radius_m", 0.1);
@@ -64,9 +65,11 @@ void write_fields(const std::string& path, const Synthetic& s) {
   h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
   h.write("/fields/points", s.xy, {k, 2}, "m");
   h.set_attribute("/fields", "location", std::string("nodes"));
+  const auto count = static_cast<std::int64_t>(std::max<std::size_t>(piles.size(), 1));
   for (const auto& [name, v] : s.fields) {
     h.write("/fields/" + name, v);
-    h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), 1));
+    h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), count));
+    for (std::size_t k = 0; k < piles.size(); ++k) h.write("/piles/" + std::to_string(k) + "/" + name, piles[k]->fields.at(name));
   }
 }
 
@@ -103,26 +106,8 @@ TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
   const std::string dir = temp_dir("pilelab_fit_piles");
   const double mu = 1.0e6, l1 = 2.0e6, l2 = 4.0e6;
   const Synthetic a = elastic_field(l1, mu), b = elastic_field(l2, mu);
-  Synthetic mean = elastic_field(0.5 * (l1 + l2), mu);
-  write_fields(dir + "/fields.h5", mean);
-  {
-    // Append the per-pile values as coarse/ writes them for ensembles.
-    const std::string tmp = dir + "/with_piles.h5";
-    H5File h = H5File::create(tmp);
-    h.set_attribute("/", "format", std::string("pilelab-fields"));
-    h.set_attribute("/", "rve_radius_m", 0.1);
-    const std::uint64_t k = mean.xy.size() / 2;
-    h.write("/mesh/nodes", mean.xy, {k, 2}, "m");
-    h.write("/mesh/triangles", mean.triangles, {mean.triangles.size() / 3, 3});
-    h.write("/fields/points", mean.xy, {k, 2}, "m");
-    h.set_attribute("/fields", "location", std::string("nodes"));
-    for (const auto& [name, v] : mean.fields) {
-      h.write("/fields/" + name, v);
-      h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), 2));
-      h.write("/piles/0/" + name, a.fields.at(name));
-      h.write("/piles/1/" + name, b.fields.at(name));
-    }
-  }
+  const Synthetic mean = elastic_field(0.5 * (l1 + l2), mu);
+  write_fields(dir + "/with_piles.h5", mean, {&a, &b});
   compare::FitOptions opt;
   opt.fields_path = dir + "/with_piles.h5";
   opt.out_dir = dir;

@@ -74,10 +74,11 @@ void BM_PileStep(benchmark::State& state) {
   const Scheme scheme = state.range(0) == 0 ? Scheme::gear5 : Scheme::verlet;
   World w = prepared_pile(scheme);
   const StepProfile before = w.profile();
-  std::size_t contacts = 0;
+  std::size_t contacts = 0, candidates = 0;
   for (auto _ : state) {
     w.step();
     contacts += w.contacts().size();
+    candidates += w.candidate_count();
   }
   const double grains = double(w.active_grains().size());
   state.counters["grains"] = grains;
@@ -87,6 +88,7 @@ void BM_PileStep(benchmark::State& state) {
       benchmark::Counter(grains * double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["contacts_per_s"] = benchmark::Counter(double(contacts), benchmark::Counter::kIsRate);
   state.counters["contacts_per_grain"] = double(contacts) / (grains * double(state.iterations()));
+  state.counters["candidates_per_grain"] = double(candidates) / (grains * double(state.iterations()));
   const StepProfile& p = w.profile();
   const double total = p.total() - before.total();
   state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;

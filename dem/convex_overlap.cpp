@@ -29,9 +29,10 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   // boundary does not count as two crossings.
   std::array<ClipVertex, max_clip> w;
   int m = 0;
+  const double length_tol2 = length_tol * length_tol;
   for (int i = 0; i < n; ++i) {
-    const ClipVertex& next = v[(i + 1) % n];
-    if ((next.p - v[i].p).norm() > length_tol) w[m++] = v[i];
+    const ClipVertex& next = v[i + 1 == n ? 0 : i + 1];
+    if ((next.p - v[i].p).squaredNorm() > length_tol2) w[m++] = v[i];
   }
   if (m < 3) return o;
 
@@ -47,7 +48,7 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   Vec2 first_crossing(0, 0), second_crossing(0, 0);
   for (int i = 0; i < m; ++i) {
     const Vec2& p = w[i].p;
-    const Vec2& q = w[(i + 1) % m].p;
+    const Vec2& q = w[i + 1 == m ? 0 : i + 1].p;
     const Vec2 p_local = p - origin, q_local = q - origin;
     const double c = cross(p_local, q_local);
     a2 += c;
@@ -55,7 +56,7 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
     cy += (p_local.y() + q_local.y()) * c;
     if (w[i].owner == owner_a) s_a += outward(q - p);
     if (w[i].owner == owner_b) s_b += outward(q - p);
-    const int incoming = w[(i + m - 1) % m].owner;
+    const int incoming = w[i == 0 ? m - 1 : i - 1].owner;
     if (incoming != w[i].owner) {
       if (o.crossings == 0) first_crossing = p;
       if (o.crossings == 1) second_crossing = p;
@@ -109,10 +110,11 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   double scale = 0.0;
   for (int i = 0; i < na; ++i) {
     buf[0][i] = {a[i], owner_a};
-    scale = std::max(scale, (a[(i + 1) % na] - a[i]).squaredNorm());
+    scale = std::max(scale, (a[i + 1 == na ? 0 : i + 1] - a[i]).squaredNorm());
   }
-  for (int k = 0; k < nb; ++k) scale = std::max(scale, (b[(k + 1) % nb] - b[k]).squaredNorm());
+  for (int k = 0; k < nb; ++k) scale = std::max(scale, (b[k + 1 == nb ? 0 : k + 1] - b[k]).squaredNorm());
   const double length_tol = 1e-12 * std::sqrt(scale);
+  const double length_tol2 = length_tol * length_tol;
 
   // Start with the edge of b that faces a (one of the two at b's corner nearest to a): for the
   // shallow overlaps of a pile it cuts a down to a sliver of three or four corners at once,
@@ -121,23 +123,26 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   {
     const int prev = (support + nb - 1) % nb;
     const Vec2 e_prev = b[support] - b[prev], e_next = b[(support + 1) % nb] - b[support];
-    const double f_prev = -outward(e_prev).dot(axis) / e_prev.norm();
-    const double f_next = -outward(e_next).dot(axis) / e_next.norm();
-    first = f_prev > f_next ? prev : support;
+    // Compare the cosines between each edge's inward normal and the axis, f / |e|, without
+    // square roots: f |f| / |e|^2 orders the same way.
+    const double f_prev = -outward(e_prev).dot(axis), f_next = -outward(e_next).dot(axis);
+    first = f_prev * std::abs(f_prev) * e_next.squaredNorm() > f_next * std::abs(f_next) * e_prev.squaredNorm()
+                ? prev
+                : support;
   }
   int cur = 0;
   double side[max_clip];
-  for (int pass = 0; pass < nb && n > 0; ++pass) {
-    const int k = (first + pass) % nb;
+  for (int pass = 0, k = first; pass < nb && n > 0; ++pass, k = (k + 1 == nb ? 0 : k + 1)) {
     const Vec2& e0 = b[k];
-    const Vec2 d = b[(k + 1) % nb] - e0;
-    // side(p) = cross(d, p - e0) = |d| * signed distance of p from the edge line (left: inside).
-    const double side_tol = length_tol * d.norm();
+    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - e0;
+    // side(p) = cross(d, p - e0) = |d| * signed distance of p from the edge line (left: inside);
+    // a point within length_tol of the line counts as on it (|side| <= length_tol |d|, squared).
+    const double side_tol2 = length_tol2 * d.squaredNorm();
     const ClipVertex* in = buf[cur].data();
     bool all_inside = true;
     for (int i = 0; i < n; ++i) {
       double v = cross(d, in[i].p - e0);
-      if (std::abs(v) <= side_tol) v = 0.0;
+      if (v * v <= side_tol2) v = 0.0;
       side[i] = v;
       all_inside = all_inside && v > 0.0;
     }

@@ -52,6 +52,7 @@ int World::add_wall(const Shape& shape, const Vec2& position, double angle, cons
   if (velocity.squaredNorm() > 0) moving_walls_.push_back(id);
   ++wall_count_;
   place_body(id);
+  neighbours_stale_ = true;
   return id;
 }
 
@@ -76,6 +77,7 @@ void World::activate(int body, const Vec2& position, double angle, const Vec2& v
   active_[body] = 1;
   active_grains_.insert(std::upper_bound(active_grains_.begin(), active_grains_.end(), body), body);
   place_body(body);
+  neighbours_stale_ = true;
 }
 
 void World::set_wall_velocity(int wall, const Vec2& velocity) {
@@ -98,6 +100,7 @@ void World::deactivate(int body) {
   if (is_wall(body) || !active_[body]) return;
   active_[body] = 0;
   active_grains_.erase(std::lower_bound(active_grains_.begin(), active_grains_.end(), body));
+  neighbours_stale_ = true;
   contacts_.erase(std::remove_if(contacts_.begin(), contacts_.end(),
                                  [&](const Contact& c) { return c.a == body || c.b == body; }),
                   contacts_.end());
@@ -113,6 +116,7 @@ void World::restore_activity(const std::vector<std::uint8_t>& active) {
     if (velocity(w).squaredNorm() > 0) moving_walls_.push_back(w);
   for (int i = 0; i < body_count(); ++i)
     if (active_[i]) place_body(i);
+  neighbours_stale_ = true;
 }
 
 void World::place_body(int body) {
@@ -178,34 +182,83 @@ void World::place_shapes() {
   for (int w : moving_walls_) place_body(w);
 }
 
+namespace {
+// Axis-aligned bounding box of a wall in its current place.
+void wall_box(const Shape& s, const Vec2& position, const Vec2* corners, int corner_count, Vec2& lo, Vec2& hi) {
+  if (s.kind == ShapeKind::disc) {
+    lo = position - Vec2(s.radius, s.radius);
+    hi = position + Vec2(s.radius, s.radius);
+    return;
+  }
+  lo = hi = corners[0];
+  for (int k = 1; k < corner_count; ++k) {
+    lo = lo.cwiseMin(corners[k]);
+    hi = hi.cwiseMax(corners[k]);
+  }
+}
+bool circle_meets_box(double x, double y, double r, const Vec2& lo, const Vec2& hi) {
+  return x + r >= lo.x() && x - r <= hi.x() && y + r >= lo.y() && y - r <= hi.y();
+}
+}  // namespace
+
+// Broad phase. A pair is a candidate when the bounding circles of two grains overlap, or a
+// grain's bounding circle meets a wall's bounding box. Testing that for all pairs near each
+// other every step is what a Verlet list saves: it lists the pairs that come within a skin of
+// being candidates, and stays valid while no body has moved more than half the skin since it
+// was built (two bodies approach by at most the sum of their displacements). The candidates
+// are then filtered from the list with the exact test, so they are the same pairs, in the
+// same order, as a fresh search every step would give: no pair is ever missed, and the result
+// does not depend on the skin or on when the list was rebuilt.
 void World::find_candidate_pairs() {
+  const double skin = settings_.neighbour_skin_fraction * max_grain_radius_;
+  if (neighbours_stale_ || skin != listed_skin_ || neighbour_list_outdated()) build_neighbour_list(skin);
+
+  std::vector<Vec2> lo(wall_count_), hi(wall_count_);
+  for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo[w], hi[w]);
   candidates_.clear();
-  // Walls against grains: bounding box of the wall against the grain's bounding circle. Walls
-  // have the lowest indices, so these keys come first and in order.
+  for (std::uint64_t key : neighbours_) {
+    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+    const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
+    bool near;
+    if (is_wall(a)) {
+      near = circle_meets_box(xb, yb, rb, lo[a], hi[a]);
+    } else {
+      const double dx = xb - motion_.d[0][3 * a], dy = yb - motion_.d[0][3 * a + 1];
+      const double r = shapes_[a].bounding_radius + rb;
+      near = dx * dx + dy * dy < r * r;
+    }
+    if (near) candidates_.push_back(key);
+  }
+}
+
+bool World::neighbour_list_outdated() const {
+  double max_moved2 = 0.0;
+  for (int i : active_grains_) max_moved2 = std::max(max_moved2, (position(i) - listed_position_[i]).squaredNorm());
+  for (int w : moving_walls_) max_moved2 = std::max(max_moved2, (position(w) - listed_position_[w]).squaredNorm());
+  return 4.0 * max_moved2 > listed_skin_ * listed_skin_;
+}
+
+void World::build_neighbour_list(double skin) {
+  neighbours_.clear();
+  listed_skin_ = skin;
+  neighbours_stale_ = false;
+  ++neighbour_builds_;
+  listed_position_.resize(body_count());
+  for (int i = 0; i < body_count(); ++i) listed_position_[i] = position(i);
+
+  // Walls against grains: bounding box of the wall, widened by the skin. Walls have the lowest
+  // indices, so these keys come first and in order.
   for (int w = 0; w < wall_count_; ++w) {
     Vec2 lo, hi;
-    const Shape& s = shapes_[w];
-    if (s.kind == ShapeKind::disc) {
-      lo = position(w) - Vec2(s.radius, s.radius);
-      hi = position(w) + Vec2(s.radius, s.radius);
-    } else {
-      lo = hi = corners(w)[0];
-      for (int k = 1; k < corner_count(w); ++k) {
-        lo = lo.cwiseMin(corners(w)[k]);
-        hi = hi.cwiseMax(corners(w)[k]);
-      }
-    }
-    for (int i : active_grains_) {
-      const double r = shapes_[i].bounding_radius;
-      const double x = motion_.d[0][3 * i], y = motion_.d[0][3 * i + 1];
-      if (x + r >= lo.x() && x - r <= hi.x() && y + r >= lo.y() && y - r <= hi.y()) candidates_.push_back(pair_key(w, i));
-    }
+    wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo, hi);
+    for (int i : active_grains_)
+      if (circle_meets_box(motion_.d[0][3 * i], motion_.d[0][3 * i + 1], shapes_[i].bounding_radius + skin, lo, hi))
+        neighbours_.push_back(pair_key(w, i));
   }
   if (active_grains_.empty()) return;
 
   // Grains against grains: a cell list with cells no smaller than the largest bounding
-  // diameter, so any two touching grains sit in the same or adjacent cells: O(N) per step, and
-  // rebuilt every step, so a pair is never missed however fast grains move.
+  // diameter plus the skin, so any two grains within the skin sit in the same or adjacent cells.
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
   for (int i : active_grains_) {
     xmin = std::min(xmin, motion_.d[0][3 * i]);
@@ -213,7 +266,7 @@ void World::find_candidate_pairs() {
     ymin = std::min(ymin, motion_.d[0][3 * i + 1]);
     ymax = std::max(ymax, motion_.d[0][3 * i + 1]);
   }
-  double h = 2.0 * max_grain_radius_;
+  double h = 2.0 * max_grain_radius_ + skin;
   // Keep the grid no larger than a few cells per grain, whatever the spread of the grains.
   const double max_cells = 4.0 * static_cast<double>(active_grains_.size()) + 1024.0;
   while (((xmax - xmin) / h + 1.0) * ((ymax - ymin) / h + 1.0) > max_cells) h *= 2.0;
@@ -250,7 +303,7 @@ void World::find_candidate_pairs() {
       const int i = active_grains_[idx];
       const std::size_t first = local.size();
       const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
-      const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius;
+      const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius + skin;
       for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
         for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x) {
           const int c = y * nx + x;
@@ -267,7 +320,7 @@ void World::find_candidate_pairs() {
 #pragma omp for ordered schedule(static, 1)
     for (int k = 0; k < nt; ++k) {
 #pragma omp ordered
-      candidates_.insert(candidates_.end(), local.begin(), local.end());
+      neighbours_.insert(neighbours_.end(), local.begin(), local.end());
     }
   }
 }

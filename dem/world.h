@@ -41,6 +41,11 @@ struct WorldSettings {
   Scheme scheme = Scheme::gear5;
   double time_step = 1e-6;  ///< [s]
   Vec2 gravity{0.0, -9.81}; ///< [m/s^2]
+  /// Verlet-list skin as a fraction of the largest grain's bounding radius: pairs are listed
+  /// when their bounding shapes come within this distance, and the list is rebuilt once some
+  /// body has moved half of it. Only a matter of speed: the pairs handed to the narrow phase
+  /// are the same for any skin.
+  double neighbour_skin_fraction = 0.3;
 };
 
 class World {
@@ -92,11 +97,17 @@ class World {
   const StepProfile& profile() const { return profile_; }
   /// Candidate pairs examined in the last step (broad-phase output).
   std::size_t candidate_count() const { return candidates_.size(); }
+  /// Pairs on the Verlet list, and how many times it has been built.
+  std::size_t neighbour_count() const { return neighbours_.size(); }
+  std::int64_t neighbour_builds() const { return neighbour_builds_; }
 
   double kinetic_energy() const;  ///< of active grains, translation + rotation [J]
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
-  MotionState& motion() { return motion_; }
+  MotionState& motion() {
+    neighbours_stale_ = true;  // the caller may move bodies
+    return motion_;
+  }
   const MotionState& motion() const { return motion_; }
   std::vector<Contact>& mutable_contacts() { return contacts_; }
   void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
@@ -108,6 +119,8 @@ class World {
   int append_body(const Shape& shape, double mass, double inertia, bool active);
   void place_shapes();
   void find_candidate_pairs();
+  bool neighbour_list_outdated() const;
+  void build_neighbour_list(double skin);
   void collide_and_compute_forces();
   void place_body(int body);
   void check_finite() const;
@@ -125,6 +138,12 @@ class World {
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> world_vertices_;
   std::vector<std::uint64_t> candidates_;  // sorted pair keys
+  // Verlet list: pairs within the skin at the last build, and where every body was then.
+  std::vector<std::uint64_t> neighbours_;  // sorted pair keys
+  std::vector<Vec2> listed_position_;      // per body
+  double listed_skin_ = 0.0;
+  bool neighbours_stale_ = true;
+  std::int64_t neighbour_builds_ = 0;
   std::vector<Contact> contacts_;          // sorted by key
   std::vector<Contact> scratch_contacts_;
   std::vector<std::uint8_t> touching_;

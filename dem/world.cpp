@@ -215,19 +215,38 @@ void World::find_candidate_pairs() {
 
   std::vector<Vec2> lo(wall_count_), hi(wall_count_);
   for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo[w], hi[w]);
+  // The filter runs over consecutive blocks of the sorted list, one per thread, and the
+  // blocks' survivors are joined in order: the candidates come out sorted whatever the threads.
   candidates_.clear();
-  for (std::uint64_t key : neighbours_) {
-    const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-    const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
-    bool near;
-    if (is_wall(a)) {
-      near = circle_meets_box(xb, yb, rb, lo[a], hi[a]);
-    } else {
-      const double dx = xb - motion_.d[0][3 * a], dy = yb - motion_.d[0][3 * a + 1];
-      const double r = shapes_[a].bounding_radius + rb;
-      near = dx * dx + dy * dy < r * r;
+  const std::size_t listed = neighbours_.size();
+#pragma omp parallel if (listed >= 4 * static_cast<std::size_t>(parallel_threshold))
+  {
+    std::vector<std::uint64_t> local;
+    std::size_t begin = 0, end = listed;
+#ifdef _OPENMP
+    const std::size_t nt = omp_get_num_threads(), t = omp_get_thread_num();
+    begin = listed * t / nt;
+    end = listed * (t + 1) / nt;
+#endif
+    for (std::size_t q = begin; q < end; ++q) {
+      const std::uint64_t key = neighbours_[q];
+      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
+      const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
+      bool near;
+      if (is_wall(a)) {
+        near = circle_meets_box(xb, yb, rb, lo[a], hi[a]);
+      } else {
+        const double dx = xb - motion_.d[0][3 * a], dy = yb - motion_.d[0][3 * a + 1];
+        const double r = shapes_[a].bounding_radius + rb;
+        near = dx * dx + dy * dy < r * r;
+      }
+      if (near) local.push_back(key);
     }
-    if (near) candidates_.push_back(key);
+#pragma omp for ordered schedule(static, 1)
+    for (int k = 0; k < omp_get_num_threads(); ++k) {
+#pragma omp ordered
+      candidates_.insert(candidates_.end(), local.begin(), local.end());
+    }
   }
 }
 
@@ -329,84 +348,95 @@ void World::collide_and_compute_forces() {
   const std::size_t n = candidates_.size();
   scratch_contacts_.resize(n);
   touching_.assign(n, 0);
-  // Carry the spring history of contacts that persist (both lists are sorted by key).
-  {
-    std::size_t k = 0;
-    for (std::size_t c = 0; c < n; ++c) {
-      while (k < contacts_.size() && contacts_[k].key() < candidates_[c]) ++k;
-      const bool persists = k < contacts_.size() && contacts_[k].key() == candidates_[c];
-      scratch_contacts_[c].spring = persists ? contacts_[k].spring : 0.0;
-      scratch_contacts_[c].normal = persists ? contacts_[k].normal : Vec2(0.0, 0.0);
-    }
-  }
   const ContactParameters& law = settings_.contact;
   const double dt = settings_.time_step;
 
-  // Each candidate pair is independent: collide and evaluate the contact law in parallel.
-#pragma omp parallel for schedule(static) if (n >= static_cast<std::size_t>(parallel_threshold))
-  for (std::size_t c = 0; c < n; ++c) {
-    const int a = static_cast<int>(candidates_[c] >> 32), b = static_cast<int>(candidates_[c] & 0xffffffffu);
-    const Shape& sa = shapes_[a];
-    const Shape& sb = shapes_[b];
-    const Vec2 pa = position(a), pb = position(b);
-    Overlap o;
-    if (sa.kind == ShapeKind::polygon && sb.kind == ShapeKind::polygon) {
-      o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb);
-    } else if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc) {
-      o = overlap_discs(pa, sa.radius, pb, sb.radius);
-    } else if (sa.kind == ShapeKind::disc) {
-      o = overlap_disc_polygon(pa, sa.radius, corners(b), corner_count(b), pb);
-    } else {
-      o = overlap_disc_polygon(pb, sb.radius, corners(a), corner_count(a), pa);
-      o.normal = -o.normal;
+  // Each candidate pair is independent: collide and evaluate the contact law in parallel, each
+  // thread over a consecutive block of the sorted candidates.
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
+  {
+    std::size_t begin = 0, end = n;
+#ifdef _OPENMP
+    const std::size_t nt = omp_get_num_threads(), t = omp_get_thread_num();
+    begin = n * t / nt;
+    end = n * (t + 1) / nt;
+#endif
+    // The spring history of contacts that persist: both lists are sorted by key, so one search
+    // finds where the block starts in the old contacts and a merge walk does the rest.
+    std::size_t old = begin == end ? 0
+                                 : std::lower_bound(contacts_.begin(), contacts_.end(), candidates_[begin],
+                                                    [](const Contact& ct, std::uint64_t key) { return ct.key() < key; }) -
+                                       contacts_.begin();
+    for (std::size_t c = begin; c < end; ++c) {
+      while (old < contacts_.size() && contacts_[old].key() < candidates_[c]) ++old;
+      const bool persists = old < contacts_.size() && contacts_[old].key() == candidates_[c];
+      const double old_spring = persists ? contacts_[old].spring : 0.0;
+      const Vec2 old_normal = persists ? contacts_[old].normal : Vec2(0.0, 0.0);
+
+      const int a = static_cast<int>(candidates_[c] >> 32), b = static_cast<int>(candidates_[c] & 0xffffffffu);
+      const Shape& sa = shapes_[a];
+      const Shape& sb = shapes_[b];
+      const Vec2 pa = position(a), pb = position(b);
+      Overlap o;
+      if (sa.kind == ShapeKind::polygon && sb.kind == ShapeKind::polygon) {
+        o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb);
+      } else if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc) {
+        o = overlap_discs(pa, sa.radius, pb, sb.radius);
+      } else if (sa.kind == ShapeKind::disc) {
+        o = overlap_disc_polygon(pa, sa.radius, corners(b), corner_count(b), pb);
+      } else {
+        o = overlap_disc_polygon(pb, sb.radius, corners(a), corner_count(a), pa);
+        o.normal = -o.normal;
+      }
+      if (!o.touching()) continue;
+
+      const Vec2 ra = o.point - pa, rb = o.point - pb;
+      const Vec2 ua = velocity(a) + cross(angular_velocity(a), ra);
+      const Vec2 ub = velocity(b) + cross(angular_velocity(b), rb);
+      const Vec2 t = perp(o.normal);
+      ContactKinematics k;
+      k.area = o.area;
+      k.chord = o.chord;
+      // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
+      // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
+      // than depending on the distance to the wall's centroid.
+      k.lever_a = is_wall(a) ? INFINITY : std::max(ra.norm(), 0.5 * sa.inner_radius);
+      k.lever_b = std::max(rb.norm(), 0.5 * sb.inner_radius);
+      k.approach_speed = o.normal.dot(ua - ub);
+      k.slip_speed = t.dot(ua - ub);
+      k.normal_mass = 1.0 / (inv_mass_[a] + inv_mass_[b]);
+      k.tangential_mass = 1.0 / (inv_mass_[a] + inv_mass_[b] + ra.squaredNorm() * inv_inertia_[a] +
+                                 rb.squaredNorm() * inv_inertia_[b]);
+      const double l = contact_length(law, k.lever_a, k.lever_b);
+      // The spring is a vector in the contact plane: as the normal turns, keep its projection on
+      // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
+      // degrees in one step (a jump to another edge) starts afresh.
+      const double turn = old_normal.dot(o.normal);
+      const double spring = turn > 0.5 ? turn * old_spring : 0.0;
+      const ContactForce f = dem::contact_force(law, k, l, spring, dt);
+
+      Contact& out = scratch_contacts_[c];
+      out.a = a;
+      out.b = b;
+      out.spring = f.spring;
+      out.point = o.point;
+      out.normal = o.normal;
+      out.normal_force = f.normal;
+      out.tangential_force = f.tangential;
+      out.area = o.area;
+      out.chord = o.chord;
+      touching_[c] = 1;
     }
-    if (!o.touching()) continue;
-
-    const Vec2 ra = o.point - pa, rb = o.point - pb;
-    const Vec2 ua = velocity(a) + cross(angular_velocity(a), ra);
-    const Vec2 ub = velocity(b) + cross(angular_velocity(b), rb);
-    const Vec2 t = perp(o.normal);
-    ContactKinematics k;
-    k.area = o.area;
-    k.chord = o.chord;
-    // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
-    // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
-    // than depending on the distance to the wall's centroid.
-    k.lever_a = is_wall(a) ? INFINITY : std::max(ra.norm(), 0.5 * sa.inner_radius);
-    k.lever_b = std::max(rb.norm(), 0.5 * sb.inner_radius);
-    k.approach_speed = o.normal.dot(ua - ub);
-    k.slip_speed = t.dot(ua - ub);
-    k.normal_mass = 1.0 / (inv_mass_[a] + inv_mass_[b]);
-    k.tangential_mass = 1.0 / (inv_mass_[a] + inv_mass_[b] + ra.squaredNorm() * inv_inertia_[a] +
-                               rb.squaredNorm() * inv_inertia_[b]);
-    const double l = contact_length(law, k.lever_a, k.lever_b);
-    // The spring is a vector in the contact plane: as the normal turns, keep its projection on
-    // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
-    // degrees in one step (a jump to another edge) starts afresh.
-    const double turn = scratch_contacts_[c].normal.dot(o.normal);
-    const double spring = turn > 0.5 ? turn * scratch_contacts_[c].spring : 0.0;
-    const ContactForce f = dem::contact_force(law, k, l, spring, dt);
-
-    Contact& out = scratch_contacts_[c];
-    out.a = a;
-    out.b = b;
-    out.spring = f.spring;
-    out.point = o.point;
-    out.normal = o.normal;
-    out.normal_force = f.normal;
-    out.tangential_force = f.tangential;
-    out.area = o.area;
-    out.chord = o.chord;
-    touching_[c] = 1;
   }
 
-  // Gather: sum forces and torques on bodies in pair order (deterministic whatever the threads).
+  // Gather: sum forces and torques on bodies in pair order (deterministic whatever the
+  // threads), compacting the touching pairs in place into the new contact list.
   std::fill(contact_force_.begin(), contact_force_.end(), 0.0);
-  contacts_.clear();
+  std::size_t kept = 0;
   for (std::size_t c = 0; c < n; ++c) {
     if (!touching_[c]) continue;
-    const Contact& ct = scratch_contacts_[c];
-    contacts_.push_back(ct);
+    if (kept != c) scratch_contacts_[kept] = scratch_contacts_[c];
+    const Contact& ct = scratch_contacts_[kept++];
     const Vec2 f = ct.force_on_b();
     const Vec2 ra = ct.point - position(ct.a), rb = ct.point - position(ct.b);
     contact_force_[3 * ct.a] -= f.x();
@@ -416,6 +446,8 @@ void World::collide_and_compute_forces() {
     contact_force_[3 * ct.b + 1] += f.y();
     contact_force_[3 * ct.b + 2] += cross(rb, f);
   }
+  scratch_contacts_.resize(kept);
+  contacts_.swap(scratch_contacts_);
 }
 
 double World::kinetic_energy() const {

@@ -148,24 +148,13 @@ RveSample RveAverager::average(const Vec2& point, double radius) const {
 }
 
 TensorSummary summarise(const Tensor& t, double sign, bool by_magnitude) {
-  const Tensor sym = 0.5 * (t + t.transpose()) * sign;
-  Eigen::SelfAdjointEigenSolver<Tensor> eig(sym);
-  // Eigen sorts ascending: index 1 is the largest.
-  int major = 1;
-  if (by_magnitude && std::abs(eig.eigenvalues()(0)) > std::abs(eig.eigenvalues()(1))) major = 0;
-  const int minor = 1 - major;
-  TensorSummary s;
-  s.major = eig.eigenvalues()(major);
-  s.minor = eig.eigenvalues()(minor);
-  s.mean = 0.5 * (s.major + s.minor);
-  const double denom = std::abs(s.major) + std::abs(s.minor);
-  s.anisotropy = denom > 0 ? (s.major - s.minor) / denom : 0.0;
-  if (by_magnitude && denom > 0) s.anisotropy = std::abs(s.major - s.minor) / denom;
-  Vec2 v = eig.eigenvectors().col(major);
-  double angle = std::atan2(v.y(), v.x()) * 180.0 / M_PI;
-  if (angle < 0) angle += 180;
-  if (angle >= 180) angle -= 180;
-  s.orientation_deg = angle;
+  TensorSummary s = principal_axes(sign * t(0, 0), sign * t(1, 1), sign * 0.5 * (t(0, 1) + t(1, 0)));
+  if (by_magnitude && std::abs(s.minor) > std::abs(s.major)) {
+    // The value of largest magnitude is the smaller one: it becomes the major value, and its
+    // axis is perpendicular to the larger one's. The anisotropy does not change.
+    std::swap(s.major, s.minor);
+    s.orientation_deg += s.orientation_deg < 90.0 ? 90.0 : -90.0;
+  }
   return s;
 }
 

@@ -19,6 +19,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "common/principal_axes.h"
+
 #include "coarse/grain_grid.h"
 #include "coarse/packing.h"
 
@@ -95,14 +97,9 @@ class RveAverager {
   double mean_area_ = 0.0, max_bounding_radius_ = 0.0;
 };
 
-/// Principal values and orientation of a 2D tensor (its symmetric part).
-struct TensorSummary {
-  double major = 0.0, minor = 0.0;   ///< principal values, major first (see the rule below)
-  double mean = 0.0;                 ///< (major + minor) / 2
-  double anisotropy = 0.0;           ///< (major - minor) / (|major| + |minor|), 0 if both vanish
-  double orientation_deg = 0.0;      ///< major axis from the horizontal, counter-clockwise, in [0, 180):
-                                     ///< an axis near the vertical reads about 90 on both sides
-};
+/// Principal values, anisotropy and major-axis orientation of a 2D tensor (its symmetric
+/// part), as defined once for every module in common/principal_axes.h.
+using TensorSummary = PrincipalAxes;
 /// The major value is the largest one of sign * tensor: sign = -1 makes the most compressive
 /// stress the major one (compression positive); for strain, pass the tensor and
 /// by_magnitude = true to take the eigenvalue of largest magnitude.

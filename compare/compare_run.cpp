@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/hdf5_file.h"
+#include "common/principal_axes.h"
 #include "common/profiles_csv.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
@@ -33,16 +34,7 @@ std::vector<char> both(const std::vector<char>& a, const std::vector<char>& b) {
 
 // Orientation of the major compressive axis of (xx, yy, xy), tension positive, in [0, 180)
 // degrees from the horizontal: the convention of coarse/.
-double compressive_axis_deg(double xx, double yy, double xy) {
-  Tensor t;
-  t << -xx, -xy, -xy, -yy;
-  Eigen::SelfAdjointEigenSolver<Tensor> eig(t);
-  const auto v = eig.eigenvectors().col(1);
-  double a = std::atan2(v.y(), v.x()) * 180.0 / M_PI;
-  if (a < 0) a += 180;
-  if (a >= 180) a -= 180;
-  return a;
-}
+double compressive_axis_deg(double xx, double yy, double xy) { return principal_axes(-xx, -yy, -xy).orientation_deg; }
 
 // Points thinned greedily to about `spacing` apart (a regular subsample of correlated RVEs).
 std::vector<std::size_t> thin(const std::vector<Vec2>& points, const std::vector<char>& ok, double spacing) {

@@ -2,24 +2,13 @@
 
 #include <cmath>
 
+#include "common/principal_axes.h"
+
 namespace pilelab::continuum {
 
 Principal principal_stress(const Stress2& p, double zero_scale) {
-  // Eigenvalues of [[xx, xy], [xy, yy]]: mean +- radius of Mohr's circle.
-  const double mean = 0.5 * (p.xx + p.yy);
-  const double radius = std::hypot(0.5 * (p.xx - p.yy), p.xy);
-  Principal out;
-  out.major = mean + radius;
-  out.minor = mean - radius;
-  // The major axis makes the angle theta with x where tan(2 theta) = 2 xy / (xx - yy), on the
-  // branch that maximises the normal stress: theta = atan2(2 xy, xx - yy) / 2 in (-90, 90],
-  // then taken into [0, 180) (an axis, not a direction).
-  out.orientation_deg = 0.5 * std::atan2(2.0 * p.xy, p.xx - p.yy) * 180.0 / M_PI;
-  if (out.orientation_deg < 0.0) out.orientation_deg += 180.0;
-  if (out.orientation_deg >= 180.0) out.orientation_deg -= 180.0;
-  const double sum = std::abs(out.major + out.minor);
-  out.anisotropy = sum > zero_scale ? (out.major - out.minor) / sum : 0.0;
-  return out;
+  const PrincipalAxes axes = principal_axes(p.xx, p.yy, p.xy, zero_scale);
+  return {axes.major, axes.minor, axes.orientation_deg, axes.anisotropy};
 }
 
 StressPostprocessor::StressPostprocessor(StressAt stress, dealii::UpdateFlags needed, double rho_g_h)

@@ -22,10 +22,10 @@ struct Principal {
   double major = 0;           ///< s1, the larger principal value (most compressive)
   double minor = 0;           ///< s2 <= s1
   double orientation_deg = 0;  ///< s1's axis from the horizontal, counter-clockwise, in [0, 180): 90 vertical
-  double anisotropy = 0;       ///< (s1 - s2) / |s1 + s2|; 0 where |s1 + s2| <= zero_scale (unstressed)
+  double anisotropy = 0;       ///< (s1 - s2) / (|s1| + |s2|) (common/principal_axes.h); 0 where unstressed
 };
 
-/// zero_scale: a stress below which s1 + s2 counts as zero (e.g. 1e-9 rho g h), so that the
+/// zero_scale: a stress below which |s1| + |s2| counts as zero (e.g. 1e-9 rho g h), so that the
 /// stress-free surface gives anisotropy 0 rather than 0/0.
 Principal principal_stress(const Stress2& p, double zero_scale);
 

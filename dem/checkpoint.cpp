@@ -18,7 +18,8 @@ namespace pilelab::dem {
 //   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
 //                          pour_stalled; /protocol/rng (4 words)
-//   /counters attrs        particle_steps, wall_time, checkpoints, snapshots; /counters/frame_times
+//   /counters attrs        particle_steps, wall_time, checkpoints, snapshots,
+//                          last_checkpoint_time, wall_time_settled; /counters/frame_times
 
 namespace {
 std::string snapshots_path(const std::string& checkpoint) {
@@ -81,6 +82,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "wall_time", counters.wall_time);
     f.set_attribute("/counters", "checkpoints", counters.checkpoints);
     f.set_attribute("/counters", "last_checkpoint_time", counters.last_checkpoint_time);
+    f.set_attribute("/counters", "wall_time_settled", counters.wall_time_settled);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
   });
@@ -173,6 +175,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   counters.wall_time = f.attribute_double("/counters", "wall_time");
   counters.checkpoints = f.attribute_int("/counters", "checkpoints");
   counters.last_checkpoint_time = f.attribute_double("/counters", "last_checkpoint_time");
+  counters.wall_time_settled = f.attribute_double("/counters", "wall_time_settled");
   counters.frame_times = f.read_doubles("/counters/frame_times");
 }
 

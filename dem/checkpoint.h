@@ -16,6 +16,7 @@ struct RunCounters {
   std::vector<double> frame_times;   ///< simulated times of the VTK frames written
   std::int64_t checkpoints = 0;      ///< checkpoints written
   double last_checkpoint_time = 0.0;  ///< [s] simulated time of the last one
+  double wall_time_settled = -1.0;    ///< [s] wall time when the pile had poured and settled; -1 before
 };
 
 void write_checkpoint(const std::string& path, const std::string& scene_text, const PileProtocol& protocol,

@@ -59,16 +59,23 @@ class FrameWriter {
   PvdSeries pvd_;
 };
 
-void print_progress(const PileProtocol& p, double steps_per_s, double grain_steps_per_s, double sim_per_wall) {
+void print_progress(const PileProtocol& p, double steps_per_s, double grain_steps_per_s) {
   const auto& s = p.state();
   const DemScene& scene = p.scene();
-  double remaining = NAN;  // simulated seconds left, where it can be estimated
-  if (s.phase == Phase::pour) remaining = (scene.grain_count - s.poured) / scene.pour.rate + scene.settle.min_time;
+  // Wall time left in the pour: a step costs about as much as the grains in the world, which
+  // grow at the pouring rate, so the grain-steps left are the area under N(t) up to the end of
+  // the pour (N^2 - n^2) / (2 rate), plus the shortest settling, over the time step.
+  double remaining_grain_steps = NAN;
+  if (s.phase == Phase::pour) {
+    const double n = s.poured, total = scene.grain_count;
+    remaining_grain_steps =
+        ((total * total - n * n) / (2.0 * scene.pour.rate) + total * scene.settle.min_time) / p.world().settings().time_step;
+  }
   std::fprintf(stderr, "[%-12s] t = %8.4f s  grains %d/%d (lost %d)  KE %.3e J  %.3g steps/s  %.3g grain-steps/s",
                phase_name(s.phase), p.world().time(), s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(),
                steps_per_s, grain_steps_per_s);
-  if (std::isfinite(remaining) && sim_per_wall > 0)
-    std::fprintf(stderr, "  pour ends in ~%.0f s", remaining / sim_per_wall);
+  if (std::isfinite(remaining_grain_steps) && grain_steps_per_s > 0)
+    std::fprintf(stderr, "  pour ends in ~%.0f s", remaining_grain_steps / grain_steps_per_s);
   else if (s.phase != Phase::pour)
     std::fprintf(stderr, "  (settling: KE/grain %.2e J, target %.2e J)", p.kinetic_energy_per_grain(),
                  scene.settle.kinetic_energy_per_grain);
@@ -106,6 +113,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["simulated_time_s"] = w.time();
   r["steps"] = w.steps();
   r["wall_time_s"] = c.wall_time;
+  r["wall_time_pour_and_settle_s"] = c.wall_time_settled;
   r["particle_steps_per_s"] = c.wall_time > 0 ? c.particle_steps / c.wall_time : 0.0;
   r["kinetic_energy_final_J"] = w.kinetic_energy();
   r["contacts_final"] = w.contacts().size();
@@ -168,7 +176,6 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   const OutputSpec& out = scene.output;
   auto session_start = Clock::now(), last_progress = session_start;
   std::int64_t progress_steps = world.steps(), progress_grain_steps = counters.particle_steps;
-  double progress_time = world.time();
   const std::int64_t first_step = world.steps();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - session_start).count(); };
   const double wall_before = counters.wall_time;
@@ -176,6 +183,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   while (!protocol.done()) {
     protocol.step();
     counters.particle_steps += static_cast<std::int64_t>(world.active_grains().size());
+    if (counters.wall_time_settled < 0 && !protocol.snapshots().empty()) counters.wall_time_settled = wall_before + elapsed();
     if (out.frame_interval > 0 && world.time() >= counters.frame_times.size() * out.frame_interval)
       frames.write(world, counters.frame_times);
     const bool stop_now = opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps;
@@ -199,12 +207,10 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
       const double dt_wall = std::chrono::duration<double>(now - last_progress).count();
       if (dt_wall >= out.progress_interval) {
         print_progress(protocol, (world.steps() - progress_steps) / dt_wall,
-                       (counters.particle_steps - progress_grain_steps) / dt_wall,
-                       (world.time() - progress_time) / dt_wall);
+                       (counters.particle_steps - progress_grain_steps) / dt_wall);
         last_progress = now;
         progress_steps = world.steps();
         progress_grain_steps = counters.particle_steps;
-        progress_time = world.time();
       }
     }
   }

@@ -35,7 +35,7 @@ ContactForce contact_force(const ContactParameters& p, const ContactKinematics& 
   const double cap = p.friction_mu * f.normal;
   if (std::abs(trial) <= cap) {
     f.tangential = trial;
-    f.spring = stretched;
+    f.spring = p.tangential_history == TangentialHistory::total ? trial : stretched;
   } else {
     // Sliding: the spring stops stretching and holds the Coulomb value.
     f.tangential = std::copysign(cap, trial);

@@ -13,12 +13,20 @@ enum class ContactLength {
   book,   ///< l = 4 r_i r_j / (r_i + r_j) (Matuttis & Chen's code: l = r for equal lever arms)
 };
 
+/// What the Cundall-Strack history holds from one step to the next (paper, eq. A.2).
+enum class TangentialHistory {
+  spring,  ///< the spring alone; the viscous term is added afresh each step (stiffness k_t)
+  total,   ///< the whole tangential force, viscous term included, as A.2 reads literally: the
+           ///< viscous term then accumulates, a stiffness k_t + sqrt(k_t m)/dt that depends on dt
+};
+
 struct ContactParameters {
   double youngs_modulus = 1e7;           ///< E [N/m] (2D: force per unit depth per unit strain)
   double damping_gamma = 0.75;           ///< gamma, dimensionless
   double friction_mu = 0.54;             ///< Coulomb coefficient, static = dynamic
   double tangential_stiffness_ratio = 2.0 / 7.0;  ///< k_t / E (paper: 2/7)
   ContactLength contact_length = ContactLength::paper;
+  TangentialHistory tangential_history = TangentialHistory::spring;
 };
 
 /// What the contact law needs to know of a contact, in the frame of the pair (a, b) with the

@@ -79,6 +79,8 @@ DemScene read_dem_scene(SceneReader& r) {
       r.get_double("dem.contact.tangential_stiffness_ratio", c.tangential_stiffness_ratio, {0.0, 10.0, false});
   const std::string length = r.get_choice("dem.contact.contact_length", "paper", {"paper", "book"});
   c.contact_length = length == "book" ? ContactLength::book : ContactLength::paper;
+  const std::string history = r.get_choice("dem.contact.tangential_history", "spring", {"spring", "total"});
+  c.tangential_history = history == "total" ? TangentialHistory::total : TangentialHistory::spring;
 
   s.scheme = scheme_from_name(r.get_choice("dem.integrator.scheme", "gear5", {"gear5", "verlet"}));
   s.time_step = r.get_double("dem.integrator.time_step_s", 0.0, Range::at_least(0.0));

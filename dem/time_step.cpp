@@ -42,6 +42,23 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
         b.stiffest_grain = static_cast<int>(i);
       }
     };
+    if (contact.tangential_history == TangentialHistory::total && contact.friction_mu > 0.0) {
+      // A.2 read literally: the stored tangential force gains k_t v dt + sqrt(k_t m_t) v each
+      // step, a spring of stiffness k_t + sqrt(k_t m_t) / dt on the slip v dt. With
+      // omega_t = sqrt(k_t / m_t) the scheme is stable while (omega_t dt)^2 + omega_t dt <= L^2.
+      // m_t is smallest for a force at the bounding radius, on two such grains.
+      const double k_t = contact.tangential_stiffness_ratio * contact.youngs_modulus;
+      const double r = s.bounding_radius;
+      const double omega_t = std::sqrt(2.0 * k_t * (1.0 / m + r * r / inertia));
+      const double limit = 0.5 * (std::sqrt(1.0 + 4.0 * scheme_limit * scheme_limit) - 1.0) / omega_t;
+      if (b.stiffest_grain < 0 || limit < b.stable_limit) {
+        b.stable_limit = limit;
+        b.omega_max = omega_t;
+        b.period_min = 2.0 * M_PI / omega_t;
+        b.damping_ratio = 0.0;
+        b.stiffest_grain = static_cast<int>(i);
+      }
+    }
     if (s.kind == ShapeKind::disc) {
       consider(2.0 * s.radius, 0.0);  // a disc's normal force passes through its centre
       continue;

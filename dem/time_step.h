@@ -10,7 +10,9 @@
 // Damping lowers that limit: with damping ratio zeta = (gamma/2) sqrt(chord/l * m/m_eff)
 // (the paper's D = gamma (dA/dt)/l sqrt(E m_n), m_n = m/2, against critical damping
 // 2 sqrt(k m_eff/2)), an explicit scheme's limit shrinks by sqrt(1 + zeta^2) - zeta, which we
-// apply to both schemes. The bound is the smallest limit over all edges of all grains.
+// apply to both schemes. The bound is the smallest limit over all edges of all grains. With
+// the literal reading of A.2 (TangentialHistory::total) the tangential spring stiffens to
+// k_t + sqrt(k_t m_t)/dt, and its mode bounds dt as well (time_step.cpp).
 #include <vector>
 
 #include "dem/contact_law.h"

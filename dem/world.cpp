@@ -222,12 +222,12 @@ void World::find_candidate_pairs() {
 #pragma omp parallel if (listed >= 4 * static_cast<std::size_t>(parallel_threshold))
   {
     std::vector<std::uint64_t> local;
-    std::size_t begin = 0, end = listed;
+    int nt = 1, t = 0;
 #ifdef _OPENMP
-    const std::size_t nt = omp_get_num_threads(), t = omp_get_thread_num();
-    begin = listed * t / nt;
-    end = listed * (t + 1) / nt;
+    nt = omp_get_num_threads();
+    t = omp_get_thread_num();
 #endif
+    const std::size_t begin = listed * t / nt, end = listed * (t + 1) / nt;
     for (std::size_t q = begin; q < end; ++q) {
       const std::uint64_t key = neighbours_[q];
       const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
@@ -243,7 +243,7 @@ void World::find_candidate_pairs() {
       if (near) local.push_back(key);
     }
 #pragma omp for ordered schedule(static, 1)
-    for (int k = 0; k < omp_get_num_threads(); ++k) {
+    for (int k = 0; k < nt; ++k) {
 #pragma omp ordered
       candidates_.insert(candidates_.end(), local.begin(), local.end());
     }
@@ -355,12 +355,12 @@ void World::collide_and_compute_forces() {
   // thread over a consecutive block of the sorted candidates.
 #pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
   {
-    std::size_t begin = 0, end = n;
+    int nt = 1, t = 0;
 #ifdef _OPENMP
-    const std::size_t nt = omp_get_num_threads(), t = omp_get_thread_num();
-    begin = n * t / nt;
-    end = n * (t + 1) / nt;
+    nt = omp_get_num_threads();
+    t = omp_get_thread_num();
 #endif
+    const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
     // The spring history of contacts that persist: both lists are sorted by key, so one search
     // finds where the block starts in the old contacts and a merge walk does the rest.
     std::size_t old = begin == end ? 0

@@ -56,3 +56,21 @@ TEST(TimeStep, TheSmallestGrainSetsTheBound) {
   EXPECT_NEAR(stable_time_step({make_disc(0.002)}, 5000.0, c, Scheme::verlet).stable_limit,
               0.5 * stable_time_step({make_disc(0.004)}, 5000.0, c, Scheme::verlet).stable_limit, 1e-15);
 }
+
+TEST(TimeStep, LiteralTangentialHistoryIsBoundedByItsTangentialMode) {
+  // Eq. A.2 read literally stores the viscous term too: the tangential spring becomes
+  // k_t + sqrt(k_t m_t) / dt. For two discs touching at the rim, 1/m_t = 2 (1/m + r^2/I) = 6/m
+  // (I = m r^2 / 2); with omega_t = sqrt(k_t / m_t) the scheme is stable while
+  // (omega_t dt)^2 + omega_t dt <= L^2.
+  const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
+  for (Scheme scheme : {Scheme::gear5, Scheme::verlet}) {
+    ContactParameters spring, total;
+    total.tangential_history = TangentialHistory::total;
+    const double L = stability_limit_omega_dt(scheme);
+    const double omega_t = std::sqrt(total.tangential_stiffness_ratio * total.youngs_modulus * 6.0 / m);
+    const double tangential = 0.5 * (std::sqrt(1.0 + 4.0 * L * L) - 1.0) / omega_t;
+    const double normal = stable_time_step({make_disc(r)}, rho, spring, scheme).stable_limit;
+    const double expected = std::min(normal, tangential);
+    EXPECT_NEAR(stable_time_step({make_disc(r)}, rho, total, scheme).stable_limit, expected, 1e-12 * expected);
+  }
+}

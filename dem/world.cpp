@@ -19,6 +19,21 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
+
+// Inside a parallel region: this thread's consecutive block [begin, end) of n items, and the
+// number of threads. Blocks in thread order cover 0..n in order.
+struct ThreadBlock {
+  std::size_t begin, end;
+  int threads;
+};
+ThreadBlock this_threads_block(std::size_t n) {
+  int nt = 1, t = 0;
+#ifdef _OPENMP
+  nt = omp_get_num_threads();
+  t = omp_get_thread_num();
+#endif
+  return {n * t / nt, n * (t + 1) / nt, nt};
+}
 }  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {}
@@ -222,13 +237,8 @@ void World::find_candidate_pairs() {
 #pragma omp parallel if (listed >= 4 * static_cast<std::size_t>(parallel_threshold))
   {
     std::vector<std::uint64_t> local;
-    int nt = 1, t = 0;
-#ifdef _OPENMP
-    nt = omp_get_num_threads();
-    t = omp_get_thread_num();
-#endif
-    const std::size_t begin = listed * t / nt, end = listed * (t + 1) / nt;
-    for (std::size_t q = begin; q < end; ++q) {
+    const ThreadBlock block = this_threads_block(listed);
+    for (std::size_t q = block.begin; q < block.end; ++q) {
       const std::uint64_t key = neighbours_[q];
       const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
       const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
@@ -243,7 +253,7 @@ void World::find_candidate_pairs() {
       if (near) local.push_back(key);
     }
 #pragma omp for ordered schedule(static, 1)
-    for (int k = 0; k < nt; ++k) {
+    for (int k = 0; k < block.threads; ++k) {
 #pragma omp ordered
       candidates_.insert(candidates_.end(), local.begin(), local.end());
     }
@@ -355,12 +365,8 @@ void World::collide_and_compute_forces() {
   // thread over a consecutive block of the sorted candidates.
 #pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
   {
-    int nt = 1, t = 0;
-#ifdef _OPENMP
-    nt = omp_get_num_threads();
-    t = omp_get_thread_num();
-#endif
-    const std::size_t begin = n * t / nt, end = n * (t + 1) / nt;
+    const ThreadBlock block = this_threads_block(n);
+    const std::size_t begin = block.begin, end = block.end;
     // The spring history of contacts that persist: both lists are sorted by key, so one search
     // finds where the block starts in the old contacts and a merge walk does the rest.
     std::size_t old = begin == end ? 0

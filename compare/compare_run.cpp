@@ -1,6 +1,5 @@
 #include "compare/compare_run.h"
 
-#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <filesystem>

@@ -14,7 +14,7 @@ namespace {
 
 // Values each in range can still make an impossible experiment; say which keys clash.
 void check_consistency(const DemScene& s, const std::string& source) {
-  const double largest_radius = 0.5 * s.grains.mean_diameter * (1.0 + 0.5 * s.grains.polydispersity);
+  const double largest_radius = 0.5 * s.grains.largest_diameter();
   std::ostringstream m;
   m.precision(6);
   if (s.container.plate_thickness < s.grains.mean_diameter / 2) {
@@ -68,7 +68,7 @@ DemScene read_dem_scene(SceneReader& r) {
     throw InputError(r.source() + ": dem.grains.corners_max: " + std::to_string(g.corners_max) +
                      " is below dem.grains.corners_min = " + std::to_string(g.corners_min));
   g.mean_diameter = r.get_double("dem.grains.mean_diameter_m", g.mean_diameter, Range::positive());
-  g.polydispersity = r.get_double("dem.grains.polydispersity", g.polydispersity, {0.0, 1.0, false});
+  g.polydispersity = r.get_double("dem.grains.polydispersity", g.polydispersity, Range::closed(0.0, 0.9));
   g.corner_jitter = r.get_double("dem.grains.corner_jitter", g.corner_jitter, {0.0, 0.45, false});
 
   ContactParameters& c = s.contact;

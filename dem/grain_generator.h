@@ -11,13 +11,17 @@ struct GrainSpec {
   int corners_min = 6;            ///< paper: 6
   int corners_max = 8;            ///< paper: 8
   double mean_diameter = 6.8e-3;  ///< mean ellipse axis (disc diameter) [m]
-  /// Width of the uniform size distribution relative to the mean: each axis (disc diameter)
-  /// is drawn uniformly from mean * [1 - p/2, 1 + p/2]. Paper: 0.3. 0 gives a monodisperse
-  /// mixture (polygons then still differ in their corner positions).
+  /// Largest relative deviation of a size from the mean: each axis (disc diameter) is drawn
+  /// uniformly from mean * [1 - p, 1 + p], so ellipses reach an aspect ratio (1 + p) / (1 - p).
+  /// Paper: 0.3 ("a degree of poly-dispersity of about 30 %"). 0 gives a monodisperse mixture
+  /// (polygons then still differ in their corner positions).
   double polydispersity = 0.3;
   /// Corners sit at angles 2 pi (k + xi_k) / n on the ellipse, xi_k uniform in
   /// [-corner_jitter, corner_jitter]; below 0.5 neighbouring corners cannot swap.
   double corner_jitter = 0.25;
+
+  double smallest_diameter() const { return mean_diameter * (1.0 - polydispersity); }
+  double largest_diameter() const { return mean_diameter * (1.0 + polydispersity); }
 };
 
 /// Draws one grain shape (body frame, centroid at origin). Orientation is chosen at insertion.

@@ -84,7 +84,7 @@ void PileProtocol::build_container() {
     // Two plates sloping at 60 degrees above the outlet; their lower ends leave a gap one grain
     // wider than the outlet on each side and sit one grain diameter above the insertion height,
     // so that no inserted grain overlaps them.
-    const double d = scene_.grains.mean_diameter * (1.0 + 0.5 * scene_.grains.polydispersity);
+    const double d = scene_.grains.largest_diameter();
     const double length = std::max(4.0 * d, p.outlet_width), thick = 0.5 * d;
     const Shape plate = rectangle(length, thick);
     const double slope = M_PI / 3.0;

@@ -228,8 +228,9 @@ void World::find_candidate_pairs() {
   const double skin = settings_.neighbour_skin_fraction * max_grain_radius_;
   if (neighbours_stale_ || skin != listed_skin_ || neighbour_list_outdated()) build_neighbour_list(skin);
 
-  std::vector<Vec2> lo(wall_count_), hi(wall_count_);
-  for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo[w], hi[w]);
+  wall_lo_.resize(wall_count_);
+  wall_hi_.resize(wall_count_);
+  for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), wall_lo_[w], wall_hi_[w]);
   // The filter runs over consecutive blocks of the sorted list, one per thread, and the
   // blocks' survivors are joined in order: the candidates come out sorted whatever the threads.
   candidates_.clear();
@@ -244,7 +245,7 @@ void World::find_candidate_pairs() {
       const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
       bool near;
       if (is_wall(a)) {
-        near = circle_meets_box(xb, yb, rb, lo[a], hi[a]);
+        near = circle_meets_box(xb, yb, rb, wall_lo_[a], wall_hi_[a]);
       } else {
         const double dx = xb - motion_.d[0][3 * a], dy = yb - motion_.d[0][3 * a + 1];
         const double r = shapes_[a].bounding_radius + rb;

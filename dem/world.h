@@ -138,6 +138,7 @@ class World {
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> world_vertices_;
   std::vector<std::uint64_t> candidates_;  // sorted pair keys
+  std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
   // Verlet list: pairs within the skin at the last build, and where every body was then.
   std::vector<std::uint64_t> neighbours_;  // sorted pair keys
   std::vector<Vec2> listed_position_;      // per body

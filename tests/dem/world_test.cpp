@@ -25,7 +25,7 @@ World random_heap(int grains, std::uint64_t seed, Vec2 gravity, double skin_frac
   Rng rng(seed);
   std::vector<Shape> shapes;
   GrainSpec spec;
-  spec.polydispersity = 0.9;
+  spec.polydispersity = 0.45;
   for (int i = 0; i < grains; ++i) {
     spec.kind = (i % 7 == 0) ? ShapeKind::disc : ShapeKind::polygon;
     spec.mean_diameter = (i % 50 == 0) ? 0.03 : 0.0068;  // a few grains four times larger

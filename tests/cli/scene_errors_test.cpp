@@ -74,6 +74,12 @@ TEST_F(SceneErrors, CornerCountOutOfRange) {
   expect_error(edited("", "[dem.grains]\ncorners_max = 65"), "dem.grains.corners_max: 65 is out of range: expected 3 <= value <= 64");
 }
 
+// Axes are drawn from mean * [1 - p, 1 + p]: p = 1 would allow grains of zero size.
+TEST_F(SceneErrors, PolydispersityThatAllowsVanishingGrainsIsRefused) {
+  expect_error(edited("", "[dem.grains]\npolydispersity = 1.0"),
+               "dem.grains.polydispersity: 1 is out of range: expected 0 <= value <= 0.9");
+}
+
 TEST_F(SceneErrors, MissingSceneFile) {
   const auto r = run("dem " + path("nowhere.toml") + " -o " + path("out"));
   EXPECT_NE(r.exit_code, 0);

@@ -30,17 +30,20 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
     const double m = areal_density * s.area, inertia = areal_density * s.polar_moment;
     // The levers are at least the inner radius for a force point on the boundary.
     const double l = contact_length(contact, s.inner_radius, s.inner_radius);
+    // Keeps the smallest limit over all modes, with the mode that sets it.
+    auto record = [&](double limit, double omega, double zeta) {
+      if (b.stiffest_grain < 0 || limit < b.stable_limit) {
+        b.stable_limit = limit;
+        b.omega_max = omega;
+        b.period_min = 2.0 * M_PI / omega;
+        b.damping_ratio = zeta;
+        b.stiffest_grain = static_cast<int>(i);
+      }
+    };
     auto consider = [&](double chord, double arm) {
       const ContactMode mode = contact_mode(contact, chord, l, m, inertia, arm);
       const double z = mode.zeta;
-      const double limit = scheme_limit * (std::sqrt(1.0 + z * z) - z) / mode.omega;
-      if (b.stiffest_grain < 0 || limit < b.stable_limit) {
-        b.stable_limit = limit;
-        b.omega_max = mode.omega;
-        b.period_min = 2.0 * M_PI / mode.omega;
-        b.damping_ratio = z;
-        b.stiffest_grain = static_cast<int>(i);
-      }
+      record(scheme_limit * (std::sqrt(1.0 + z * z) - z) / mode.omega, mode.omega, z);
     };
     if (contact.tangential_history == TangentialHistory::total && contact.friction_mu > 0.0) {
       // A.2 read literally: the stored tangential force gains k_t v dt + sqrt(k_t m_t) v each
@@ -50,14 +53,7 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
       const double k_t = contact.tangential_stiffness_ratio * contact.youngs_modulus;
       const double r = s.bounding_radius;
       const double omega_t = std::sqrt(2.0 * k_t * (1.0 / m + r * r / inertia));
-      const double limit = 0.5 * (std::sqrt(1.0 + 4.0 * scheme_limit * scheme_limit) - 1.0) / omega_t;
-      if (b.stiffest_grain < 0 || limit < b.stable_limit) {
-        b.stable_limit = limit;
-        b.omega_max = omega_t;
-        b.period_min = 2.0 * M_PI / omega_t;
-        b.damping_ratio = 0.0;
-        b.stiffest_grain = static_cast<int>(i);
-      }
+      record(0.5 * (std::sqrt(1.0 + 4.0 * scheme_limit * scheme_limit) - 1.0) / omega_t, omega_t, 0.0);
     }
     if (s.kind == ShapeKind::disc) {
       consider(2.0 * s.radius, 0.0);  // a disc's normal force passes through its centre

@@ -14,7 +14,7 @@ namespace pilelab::dem {
 //   /scene                 scene text the run was started with
 //   /world/d0 .. d5        MotionState derivatives, 3 per body
 //   /world/active          per body 0/1
-//   /world attrs           time_s, steps, gravity_y
+//   /world attrs           time_s, steps, gravity_y, deepest_overlap
 //   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
 //                          pour_stalled; /protocol/rng (4 words)
@@ -43,6 +43,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/world", "time_s", world.time());
     f.set_attribute("/world", "steps", world.steps());
     f.set_attribute("/world", "gravity_y", world.settings().gravity.y());
+    f.set_attribute("/world", "deepest_overlap", world.deepest_overlap());
 
     const auto& cs = world.contacts();
     std::vector<std::int64_t> a, b;
@@ -111,6 +112,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   world.restore_activity(std::vector<std::uint8_t>(active.begin(), active.end()));
   world.restore_clock(f.attribute_double("/world", "time_s"), f.attribute_int("/world", "steps"));
   world.set_gravity({0.0, f.attribute_double("/world", "gravity_y")});
+  world.restore_deepest_overlap(f.attribute_double("/world", "deepest_overlap"));
 
   const auto a = f.read_ints("/contacts/a"), b = f.read_ints("/contacts/b");
   const auto spring = f.read_doubles("/contacts/spring"), point = f.read_doubles("/contacts/point"),

@@ -1,24 +1,28 @@
 #pragma once
 // Time integration of the equations of motion (paper eq. 1) for the generalised coordinates
-// q = (x, y, theta) of every mobile body. Two schemes, chosen in the scene:
+// q = (x, y, theta) of every mobile body. Three schemes, chosen in the scene:
 //  - Gear's fifth-order predictor-corrector (the paper's): six stored derivatives, a Taylor
 //    predictor, one force evaluation at the predicted state, and a corrector with Gear's
 //    coefficients for second-order equations with velocity-dependent forces.
 //  - Velocity Verlet (second order, three stored derivatives): cheaper, symplectic for
-//    conservative forces; velocity-dependent forces see the first-order predicted velocity.
+//    conservative forces; velocity-dependent forces see the extrapolated velocity v + a dt,
+//    which keeps the damping second order.
+//  - Leapfrog (kick-drift-kick): Verlet's positions, but the forces see the half-step velocity
+//    v + a dt/2, as in LAMMPS. Second order for conservative forces, first order in the damping,
+//    and stable with strong damping at steps up to twice Verlet's (stability_limit_omega_dt).
 #include <array>
 #include <string>
 #include <vector>
 
 namespace pilelab::dem {
 
-enum class Scheme { gear5, verlet };
-Scheme scheme_from_name(const std::string& name);  ///< "gear5" or "verlet"
+enum class Scheme { gear5, verlet, leapfrog };
+Scheme scheme_from_name(const std::string& name);  ///< "gear5", "verlet" or "leapfrog"
 const char* scheme_name(Scheme s);
 
 /// The derivatives of q for all bodies, interleaved (x, y, theta) per body: d[k][3*i + c] is
-/// the k-th time derivative of coordinate c of body i. Verlet uses d[0..2] and keeps the half-
-/// step velocity in half_velocity.
+/// the k-th time derivative of coordinate c of body i. Verlet and leapfrog use d[0..2] and keep
+/// the half-step velocity in half_velocity.
 struct MotionState {
   std::array<std::vector<double>, 6> d;
   std::vector<double> half_velocity;
@@ -34,8 +38,10 @@ void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt
 /// like d) to complete the step.
 void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const std::vector<int>& bodies, double dt);
 
-/// The largest omega * dt for which the scheme is stable on the undamped oscillator
-/// x'' = -omega^2 x (measured by tests/dem/integrator_test.cpp for Gear).
-double stability_limit_omega_dt(Scheme s);
+/// The largest omega * dt for which the scheme is stable on the damped oscillator
+/// x'' = -omega^2 x - 2 zeta omega x', its force evaluated as World does (at the velocity d[1]
+/// holds after predict). Exact for Verlet and leapfrog; for Gear a lower bound
+/// (tests/dem/integrator_test.cpp checks both sides).
+double stability_limit_omega_dt(Scheme s, double zeta = 0.0);
 
 }  // namespace pilelab::dem

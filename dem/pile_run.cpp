@@ -119,6 +119,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["contacts_final"] = w.contacts().size();
   r["time_step_s"] = w.settings().time_step;
   r["stable_time_step_s"] = p.time_step_bound().stable_limit;
+  r["deepest_overlap_fraction"] = w.deepest_overlap();
   r["integrator"] = scheme_name(scene.scheme);
   r["threads"] = threads;
   r["cores"] = std::thread::hardware_concurrency();
@@ -233,6 +234,11 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     if (protocol.state().lost > 0)
       std::fprintf(stderr, "warning: %d grains fell off the plate; a wider dem.container.plate_width_m keeps them\n",
                    protocol.state().lost);
+    if (world.deepest_overlap() > max_overlap_depth_fraction)
+      std::fprintf(stderr,
+                   "warning: an overlap reached %.2f of a grain's inner radius; the stable time step assumes at "
+                   "most %.2f, so dem.integrator.time_step_s may need to be smaller\n",
+                   world.deepest_overlap(), max_overlap_depth_fraction);
     for (const auto& [name, info] : report["settling"].items())
       if (!info["reached_threshold"].get<bool>())
         std::fprintf(stderr,

@@ -1,35 +1,134 @@
 #include "dem/time_step.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pilelab::dem {
 
 namespace {
-// The pair frequency and damping ratio when a contact of chord `chord` acts at moment arm `arm`
-// (the distance from the centroid to the force's line of action) on two grains like this one.
-struct ContactMode {
-  double omega, zeta;
+
+// The weight of a chord of length c whose force acts at moment arm a.
+struct ChordWeight {
+  double inv_mass, inv_inertia;
+  double operator()(double c, double a) const { return c * (inv_mass + a * a * inv_inertia); }
 };
-ContactMode contact_mode(const ContactParameters& contact, double chord, double l, double m, double inertia,
-                         double arm) {
-  const double k = contact.youngs_modulus * chord / l;
-  const double inv_m_eff = 1.0 / m + arm * arm / inertia;  // translation coupled with rotation
-  const double omega = std::sqrt(2.0 * k * inv_m_eff);      // two such grains: m_pair = m_eff / 2
-  // The damping uses the translational reduced mass m/2; the mode moves the effective mass.
-  const double zeta = 0.5 * contact.damping_gamma * std::sqrt(chord / l * inv_m_eff * m);
-  return {omega, zeta};
+
+// Chords along one edge, whose ends run from s_p to s_q along it (measured from the foot of the
+// centroid): a chord with midpoint s is at most 2 min(s - s_p, s_q - s) long and acts at arm |s|.
+// On each half the weight is a cubic in s; its maximum is at the middle or where the
+// derivative, 2/m + (6 s^2 - 4 s_end s)/I (up to sign), vanishes.
+void heaviest_chord_along_edge(double s_p, double s_q, const ChordWeight& weight, HeaviestChord& best) {
+  auto consider = [&](double s) {
+    const double c = 2.0 * std::min(s - s_p, s_q - s);
+    const double w = weight(c, s);
+    if (c > 0.0 && w > best.weight) best = {c, std::abs(s), w};
+  };
+  const double mid = 0.5 * (s_p + s_q);
+  consider(mid);
+  for (double end : {s_p, s_q}) {
+    // 6 s^2 - 4 end s + 2 I/m = 0
+    const double disc = 16.0 * end * end - 48.0 * weight.inv_mass / weight.inv_inertia;
+    if (disc < 0.0) continue;
+    for (double sign : {-1.0, 1.0}) {
+      const double s = (4.0 * end + sign * std::sqrt(disc)) / 12.0;
+      if (s > std::min(end, mid) && s < std::max(end, mid)) consider(s);
+    }
+  }
 }
+
+// Chords from P on edge i (parameter u) to Q on edge j (parameter w), which cut off corners
+// i+1 .. j. Returns the weight, or -1 if the cut-off part is deeper than max_depth.
+struct CornerChords {
+  const std::vector<Vec2>& v;
+  int i, j;  // j may exceed n: indices are taken mod n
+  double max_depth;
+  ChordWeight weight;
+  double evaluate(double u, double w, HeaviestChord* out = nullptr) const {
+    const int n = static_cast<int>(v.size());
+    const Vec2 p = v[i % n] + u * (v[(i + 1) % n] - v[i % n]);
+    const Vec2 q = v[j % n] + w * (v[(j + 1) % n] - v[j % n]);
+    const Vec2 d = q - p;
+    const double c = d.norm();
+    if (!(c > 0.0)) return -1.0;
+    const Vec2 t = d / c;
+    // The cut-off corners lie right of p -> q (the polygon is counter-clockwise).
+    for (int k = i + 1; k <= j; ++k)
+      if (cross(v[k % n] - p, t) > max_depth) return -1.0;
+    const double arm = std::abs(t.dot(0.5 * (p + q)));
+    const double result = weight(c, arm);
+    if (out) *out = {c, arm, result};
+    return result;
+  }
+};
+
 }  // namespace
+
+// The largest omega_t dt at which the tangential spring of A.2 stays stable, with
+// omega_t^2 = k_t / m_t and the viscous coefficient sqrt(k_t m_t) (damping ratio 1/2). Per step
+// the spring grows by k_t v dt, v the velocity the forces see (integrator.h).
+//  - Leapfrog: v dt is the exact displacement, so the spring is a damped oscillator:
+//    2 (sqrt(1 + 1/4) - 1/2). With the viscous term stored too (TangentialHistory::total) it is
+//    an undamped spring k_t + sqrt(k_t m_t)/dt: x^2 + x <= 4 with x = omega_t dt.
+//  - Verlet: v = v + a dt overshoots the displacement; the characteristic polynomial has a root
+//    at -1 when x^2 + 2 x = 2 (spring), or x^2 + x = 2 (total).
+//  - Gear 5: measured on the model problem (tests/dem/integrator_test.cpp): 0.152 and 0.2595,
+//    taken as 0.15 and 0.25.
+double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history) {
+  const bool total = history == TangentialHistory::total;
+  switch (scheme) {
+    case Scheme::leapfrog: return total ? 0.5 * (std::sqrt(17.0) - 1.0) : 2.0 * (std::sqrt(1.25) - 0.5);
+    case Scheme::verlet: return total ? 1.0 : std::sqrt(3.0) - 1.0;
+    case Scheme::gear5: return total ? 0.25 : 0.15;
+  }
+  return 0.0;
+}
+
+HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth) {
+  const std::vector<Vec2>& v = polygon.vertices;
+  const int n = static_cast<int>(v.size());
+  const ChordWeight weight{1.0 / mass, 1.0 / inertia};
+  HeaviestChord best;
+  for (int e = 0; e < n; ++e) {
+    const Vec2 p = v[e], q = v[(e + 1) % n];
+    const Vec2 t = (q - p).normalized();
+    heaviest_chord_along_edge(t.dot(p), t.dot(q), weight, best);
+  }
+  if (max_depth <= 0.0) return best;
+  // Across corners: a grid over (u, w), then three rounds of a finer grid around its best point.
+  constexpr int coarse = 16, fine = 4, rounds = 3;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < i + n; ++j) {
+      const CornerChords chords{v, i, j, max_depth, weight};
+      double best_here = -1.0, u_best = 0.0, w_best = 0.0;
+      for (int a = 0; a <= coarse; ++a)
+        for (int b = 0; b <= coarse; ++b) {
+          const double u = double(a) / coarse, w = double(b) / coarse;
+          const double value = chords.evaluate(u, w);
+          if (value > best_here) best_here = value, u_best = u, w_best = w;
+        }
+      if (best_here < 0.0) break;  // every chord to edge j is too deep: so are those beyond it
+      double spacing = 1.0 / coarse;
+      for (int r = 0; r < rounds; ++r) {
+        const double u0 = u_best, w0 = w_best;
+        spacing /= fine;  // the finer grid spans one spacing of the last on either side
+        for (int a = -fine; a <= fine; ++a)
+          for (int b = -fine; b <= fine; ++b) {
+            const double u = std::clamp(u0 + a * spacing, 0.0, 1.0), w = std::clamp(w0 + b * spacing, 0.0, 1.0);
+            const double value = chords.evaluate(u, w);
+            if (value > best_here) best_here = value, u_best = u, w_best = w;
+          }
+      }
+      if (best_here > best.weight) chords.evaluate(u_best, w_best, &best);
+    }
+  return best;
+}
 
 TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
                                const ContactParameters& contact, Scheme scheme) {
   TimeStepBound b;
-  const double scheme_limit = stability_limit_omega_dt(scheme);
   for (std::size_t i = 0; i < grains.size(); ++i) {
     const Shape& s = grains[i];
     const double m = areal_density * s.area, inertia = areal_density * s.polar_moment;
-    // The levers are at least the inner radius for a force point on the boundary.
-    const double l = contact_length(contact, s.inner_radius, s.inner_radius);
     // Keeps the smallest limit over all modes, with the mode that sets it.
     auto record = [&](double limit, double omega, double zeta) {
       if (b.stiffest_grain < 0 || limit < b.stable_limit) {
@@ -40,35 +139,20 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
         b.stiffest_grain = static_cast<int>(i);
       }
     };
-    auto consider = [&](double chord, double arm) {
-      const ContactMode mode = contact_mode(contact, chord, l, m, inertia, arm);
-      const double z = mode.zeta;
-      record(scheme_limit * (std::sqrt(1.0 + z * z) - z) / mode.omega, mode.omega, z);
-    };
-    if (contact.tangential_history == TangentialHistory::total && contact.friction_mu > 0.0) {
-      // A.2 read literally: the stored tangential force gains k_t v dt + sqrt(k_t m_t) v each
-      // step, a spring of stiffness k_t + sqrt(k_t m_t) / dt on the slip v dt. With
-      // omega_t = sqrt(k_t / m_t) the scheme is stable while (omega_t dt)^2 + omega_t dt <= L^2.
-      // m_t is smallest for a force at the bounding radius, on two such grains.
+    // Normal mode: the heaviest chord, with l at its smallest.
+    const double l = contact_length(contact, s.inner_radius, s.inner_radius);
+    const double w = s.kind == ShapeKind::disc
+                         ? 2.0 * s.radius / m  // through the centre
+                         : heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius).weight;
+    const double omega = std::sqrt(2.0 * contact.youngs_modulus * w / l);
+    const double zeta = 0.5 * contact.damping_gamma * std::sqrt(w * m / l);
+    record(stability_limit_omega_dt(scheme, zeta) / omega, omega, zeta);
+    // Tangential mode: force at the bounding radius.
+    if (contact.friction_mu > 0.0) {
       const double k_t = contact.tangential_stiffness_ratio * contact.youngs_modulus;
       const double r = s.bounding_radius;
       const double omega_t = std::sqrt(2.0 * k_t * (1.0 / m + r * r / inertia));
-      record(0.5 * (std::sqrt(1.0 + 4.0 * scheme_limit * scheme_limit) - 1.0) / omega_t, omega_t, 0.0);
-    }
-    if (s.kind == ShapeKind::disc) {
-      consider(2.0 * s.radius, 0.0);  // a disc's normal force passes through its centre
-      continue;
-    }
-    // A polygon pressed flat on edge e: the chord is at most the edge, and the force acts along
-    // the edge's normal at a point of the edge, so its moment arm is at most the distance, along
-    // the edge, from the foot of the centroid to the edge's far end.
-    const std::size_t n = s.vertices.size();
-    for (std::size_t e = 0; e < n; ++e) {
-      const Vec2 p = s.vertices[e], q = s.vertices[(e + 1) % n];
-      const double length = (q - p).norm();
-      const Vec2 along = (q - p) / length;
-      const double arm = std::max(std::abs(along.dot(p)), std::abs(along.dot(q)));
-      consider(length, arm);
+      record(tangential_limit_omega_dt(scheme, contact.tangential_history) / omega_t, omega_t, 0.5);
     }
   }
   return b;

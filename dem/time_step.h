@@ -1,18 +1,32 @@
 #pragma once
-// The stable time step. The stiffest contact a grain can form is an edge pressed flat: the
-// overlap grows as A = chord * depth, so R = E A / l has stiffness k = E * chord / l, with the
-// chord at most that edge's length and l at its smallest when both lever arms are the inner
-// radius. The force acts along the edge's normal at a point of the edge, so its moment arm about
-// the centroid is at most the distance along the edge from the centroid's foot to the edge's far
-// end; translation and rotation then move the effective mass m_eff = 1/(1/m + arm^2/I), halved
-// for two such grains: omega_e = sqrt(2 k (1/m + arm^2/I)) for every edge e of every grain
-// (discs: chord 2r, arm 0). A scheme is stable for omega dt below its limit (integrator.h).
-// Damping lowers that limit: with damping ratio zeta = (gamma/2) sqrt(chord/l * m/m_eff)
-// (the paper's D = gamma (dA/dt)/l sqrt(E m_n), m_n = m/2, against critical damping
-// 2 sqrt(k m_eff/2)), an explicit scheme's limit shrinks by sqrt(1 + zeta^2) - zeta, which we
-// apply to both schemes. The bound is the smallest limit over all edges of all grains. With
-// the literal reading of A.2 (TangentialHistory::total) the tangential spring stiffens to
-// k_t + sqrt(k_t m_t)/dt, and its mode bounds dt as well (time_step.cpp).
+// The stable time step: the largest dt at which the scheme stays stable on the stiffest contact
+// a grain of the scene can form, pressed against its twin.
+//
+// Normal mode. R = E A / l has stiffness k = E c / l for a contact of chord c, and its force acts
+// along the chord's normal through the chord's midpoint, at moment arm a about the centroid, so a
+// pair of twins moves the effective mass 1/(2 (1/m + a^2/I)). Both the frequency and the damping
+// ratio then grow with the chord's weight w = c (1/m + a^2/I):
+//   omega^2 = 2 E w / l,   zeta = (gamma/2) sqrt(w m / l)
+// (the paper's damping D = gamma (dA/dt)/l sqrt(E m_n) with m_n = m/2, against critical damping),
+// and the scheme's limit stability_limit_omega_dt(scheme, zeta) / omega falls as w grows. So the
+// bound needs the heaviest chord a contact can have on each grain, with l at its smallest (both
+// levers the inner radius).
+//
+// Which chords can a contact have? Its two end points lie on the grain's boundary, and the part
+// of the grain beyond the chord lies inside the other grain: it is no thicker than the overlap.
+// The bound admits every chord that cuts off no more than max_overlap_depth_fraction of the inner
+// radius (a flat contact along one edge cuts off nothing; a chord across a corner cuts the corner
+// off). A chord along an edge has its midpoint inside the edge, so a long chord has a short arm
+// and a long arm a short chord: counting the whole edge at the arm of its far end, as this bound
+// did until 2026-11-22, overstated w by up to 3x. World records the deepest overlap of a run, so
+// a run can tell whether it stayed inside the bound's assumption.
+//
+// Tangential mode. The Cundall-Strack spring k_t with its viscous term sqrt(k_t m_t) has damping
+// ratio 1/2 whatever the geometry, and is stiffest for a force at the bounding radius:
+// omega_t^2 = 2 k_t (1/m + r^2/I). Its limit depends on how the spring is advanced
+// (tangential_limit_omega_dt).
+//
+// Discs: chord up to 2r, arm 0.
 #include <vector>
 
 #include "dem/contact_law.h"
@@ -21,15 +35,34 @@
 
 namespace pilelab::dem {
 
+/// The bound admits contacts whose overlap is no thicker than this fraction of the smaller
+/// grain's inner radius (World::deepest_overlap reports what a run reached).
+constexpr double max_overlap_depth_fraction = 0.25;
+
 struct TimeStepBound {
-  double omega_max = 0.0;      ///< contact angular frequency of the grain that sets the bound [1/s]
+  double omega_max = 0.0;      ///< angular frequency of the mode that sets the bound [1/s]
   double period_min = 0.0;     ///< 2 pi / omega_max [s]
   double stable_limit = 0.0;   ///< largest stable dt for the scheme [s]
-  double damping_ratio = 0.0;  ///< zeta of that grain's stiffest contact
+  double damping_ratio = 0.0;  ///< zeta of that mode
   int stiffest_grain = -1;     ///< index (in the list given) of the grain that sets the bound
 };
 
 TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
                                const ContactParameters& contact, Scheme scheme);
+
+/// The largest omega_t dt at which the tangential spring of A.2 (damping ratio 1/2) stays
+/// stable under the scheme, for either way of storing its history.
+double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history);
+
+/// The chord of largest weight c (1/m + a^2/I) that a contact can have on a polygon, among
+/// chords that cut off no more than max_depth [m] of it (see above). Chords along one edge are
+/// maximised exactly; chords across corners are searched on a grid refined around its best
+/// point, which finds the maximum to within a fraction of a per cent.
+struct HeaviestChord {
+  double chord = 0.0;   ///< c [m]
+  double arm = 0.0;     ///< a [m]
+  double weight = 0.0;  ///< c (1/m + a^2/I) [m/kg]
+};
+HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth);
 
 }  // namespace pilelab::dem

@@ -444,6 +444,12 @@ void World::collide_and_compute_forces() {
     if (!touching_[c]) continue;
     if (kept != c) scratch_contacts_[kept] = scratch_contacts_[c];
     const Contact& ct = scratch_contacts_[kept++];
+    // The overlap is convex and the chord joins two points of its boundary, so no point of it
+    // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
+    const double depth = ct.chord > 0.0 ? 2.0 * ct.area / ct.chord : std::sqrt(ct.area);
+    const double inner = is_wall(ct.a) ? shapes_[ct.b].inner_radius
+                                       : std::min(shapes_[ct.a].inner_radius, shapes_[ct.b].inner_radius);
+    deepest_overlap_ = std::max(deepest_overlap_, depth / inner);
     const Vec2 f = ct.force_on_b();
     const Vec2 ra = ct.point - position(ct.a), rb = ct.point - position(ct.b);
     contact_force_[3 * ct.a] -= f.x();

@@ -102,6 +102,9 @@ class World {
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
 
   double kinetic_energy() const;  ///< of active grains, translation + rotation [J]
+  /// The deepest overlap met so far, as a fraction of the smaller inner radius of the pair: the
+  /// stable time step assumes it stays below max_overlap_depth_fraction (time_step.h).
+  double deepest_overlap() const { return deepest_overlap_; }
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
   MotionState& motion() {
@@ -111,6 +114,7 @@ class World {
   const MotionState& motion() const { return motion_; }
   std::vector<Contact>& mutable_contacts() { return contacts_; }
   void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
+  void restore_deepest_overlap(double fraction) { deepest_overlap_ = fraction; }
   /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
   void restore_activity(const std::vector<std::uint8_t>& active);
   const std::vector<std::uint8_t>& activity() const { return active_; }
@@ -146,6 +150,7 @@ class World {
   bool neighbours_stale_ = true;
   std::int64_t neighbour_builds_ = 0;
   std::vector<Contact> contacts_;          // sorted by key
+  double deepest_overlap_ = 0.0;
   std::vector<Contact> scratch_contacts_;
   std::vector<std::uint8_t> touching_;
   // Broad-phase cell list.

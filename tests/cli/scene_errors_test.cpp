@@ -54,7 +54,7 @@ TEST_F(SceneErrors, WrongTypeIsNamed) {
 
 TEST_F(SceneErrors, UnknownChoiceListsTheChoices) {
   expect_error(edited("scheme = \"verlet\"", "scheme = \"rk4\""),
-               "dem.integrator.scheme: \"rk4\" is not one of \"gear5\", \"verlet\"");
+               "dem.integrator.scheme: \"rk4\" is not one of \"gear5\", \"verlet\", \"leapfrog\"");
 }
 
 TEST_F(SceneErrors, InconsistentCornerRange) {

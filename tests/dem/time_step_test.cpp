@@ -1,49 +1,116 @@
-// The stable time step against its closed form for shapes where every term is known.
+// The stable time step: its closed form where every term is known, the heaviest chord against a
+// brute-force search over all chords, and the tangential spring's limits against the contact law
+// itself integrated by each scheme.
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
+#include "dem/contact_law.h"
 #include "dem/time_step.h"
 
 using namespace pilelab::dem;
 
 namespace {
-// omega = sqrt(2 k (1/m + arm^2/I)), zeta = (gamma/2) sqrt(chord/l * m (1/m + arm^2/I)),
-// limit = c_scheme (sqrt(1 + zeta^2) - zeta) / omega.
-double expected_limit(double c_scheme, double E, double gamma, double chord, double l, double m, double inertia,
-                      double arm) {
-  const double inv_m_eff = 1.0 / m + arm * arm / inertia;
-  const double omega = std::sqrt(2.0 * E * chord / l * inv_m_eff);
-  const double zeta = 0.5 * gamma * std::sqrt(chord / l * m * inv_m_eff);
-  return c_scheme * (std::sqrt(1.0 + zeta * zeta) - zeta) / omega;
+// omega = sqrt(2 E w / l), zeta = (gamma/2) sqrt(w m / l), limit = L(scheme, zeta) / omega.
+double expected_normal_limit(Scheme scheme, const ContactParameters& c, double weight, double l, double m) {
+  const double omega = std::sqrt(2.0 * c.youngs_modulus * weight / l);
+  const double zeta = 0.5 * c.damping_gamma * std::sqrt(weight * m / l);
+  return stability_limit_omega_dt(scheme, zeta) / omega;
+}
+
+// The heaviest chord by brute force: both ends anywhere on the boundary (n points per edge), the
+// part cut off no deeper than max_depth.
+double brute_force_heaviest_chord(const Shape& s, double m, double inertia, double max_depth, int per_edge) {
+  std::vector<Vec2> boundary;
+  std::vector<int> edge_of;
+  const int n = static_cast<int>(s.vertices.size());
+  for (int e = 0; e < n; ++e)
+    for (int k = 0; k < per_edge; ++k) {
+      boundary.push_back(s.vertices[e] + (double(k) / per_edge) * (s.vertices[(e + 1) % n] - s.vertices[e]));
+      edge_of.push_back(e);
+    }
+  double best = 0.0;
+  const int total = static_cast<int>(boundary.size());
+  for (int a = 0; a < total; ++a)
+    for (int b = 0; b < total; ++b) {
+      if (b == a) continue;
+      const Vec2 p = boundary[a], q = boundary[b];
+      const double c = (q - p).norm();
+      if (!(c > 0.0)) continue;
+      const Vec2 t = (q - p) / c;
+      // Corners passed going counter-clockwise from p to q are cut off; they lie right of p -> q.
+      const int last = edge_of[b] + (b < a ? n : 0);
+      double depth = 0.0;
+      for (int e = edge_of[a] + 1; e <= last; ++e) depth = std::max(depth, cross(s.vertices[e % n] - p, t));
+      if (depth > max_depth) continue;
+      const double arm = t.dot(0.5 * (p + q));
+      best = std::max(best, c * (1.0 / m + arm * arm / inertia));
+    }
+  return best;
 }
 }  // namespace
 
 TEST(TimeStep, DiscMatchesTheClosedForm) {
-  // A disc: chord up to 2r, force through the centre (arm 0), levers r so l = r/2 (paper).
-  const double r = 0.003, rho = 5000.0;
-  ContactParameters c;
-  const TimeStepBound b = stable_time_step({make_disc(r)}, rho, c, Scheme::verlet);
-  const double m = rho * M_PI * r * r;
-  EXPECT_NEAR(b.stable_limit, expected_limit(2.0, c.youngs_modulus, c.damping_gamma, 2 * r, r / 2, m, 1.0, 0.0),
-              1e-12 * b.stable_limit);
+  // A disc: chord up to 2r through the centre (arm 0), levers r so l = r/2 (paper).
+  const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
+  for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog}) {
+    ContactParameters c;
+    const double expected = expected_normal_limit(scheme, c, 2.0 * r / m, r / 2, m);
+    EXPECT_NEAR(stable_time_step({make_disc(r)}, rho, c, scheme).stable_limit, expected, 1e-12 * expected)
+        << scheme_name(scheme);
+  }
 }
 
-TEST(TimeStep, SquareMatchesTheClosedFormForBothSchemesAndContactLengths) {
-  // A square of side s: every edge has chord s, inner radius s/2, and the centroid's foot at the
-  // edge midpoint, so the arm is s/2; I = rho s^4 / 6.
-  const double s = 0.004, rho = 5000.0;
-  const Shape square = make_polygon({{0, 0}, {s, 0}, {s, s}, {0, s}});
-  const double m = rho * s * s, inertia = rho * s * s * s * s / 6.0;
-  for (ContactLength length : {ContactLength::paper, ContactLength::book})
-    for (Scheme scheme : {Scheme::gear5, Scheme::verlet}) {
-      ContactParameters c;
-      c.contact_length = length;
-      const double l = (length == ContactLength::paper ? 1.0 : 4.0) * s / 4.0;
-      const double expected = expected_limit(stability_limit_omega_dt(scheme), c.youngs_modulus, c.damping_gamma, s,
-                                              l, m, inertia, s / 2);
-      EXPECT_NEAR(stable_time_step({square}, rho, c, scheme).stable_limit, expected, 1e-12 * expected);
+TEST(TimeStep, ChordsAlongASquaresEdgeAreHeaviestAtTheMiddle) {
+  // Along an edge of a square of side s (I = m s^2 / 6) the weight of a chord with midpoint at
+  // distance t s from the edge's middle is s (1 - 2t)(1 + 6 t^2) / m, which only falls with t:
+  // the whole edge at arm 0. Counting the whole edge at the arm of its end, s/2, would give
+  // 2.5 s / m.
+  const double s = 0.004, rho = 5000.0, m = rho * s * s, inertia = m * s * s / 6.0;
+  const HeaviestChord h = heaviest_chord(make_polygon({{0, 0}, {s, 0}, {s, s}, {0, s}}), m, inertia, 0.0);
+  EXPECT_NEAR(h.chord, s, 1e-15);
+  EXPECT_NEAR(h.arm, 0.0, 1e-15);
+  EXPECT_NEAR(h.weight, s / m, 1e-12 * s / m);
+}
+
+TEST(TimeStep, ChordsAlongALongEdgeTradeLengthForArm) {
+  // The triangle (0,0), (10,0), (3,1): m = 5 (unit density), I/m = (100 + 50 + 10)/36 = 40/9,
+  // centroid (13/3, 1/3). Along the base the chords end between s_p = -13/3 and s_q = 17/3 of
+  // the centroid's foot, and beyond the middle the weight 2 (s_q - s)(1/m + s^2/I) peaks where
+  // 6 s^2 - 4 s_q s + 2 I/m = 0, at s = 10/3: chord 14/3, weight 14/3 (1/5 + 1/2) = 49/15, just
+  // above the best chord on the other long edge.
+  const Shape triangle = make_polygon({{0, 0}, {10, 0}, {3, 1}});
+  const double m = triangle.area, inertia = triangle.polar_moment;
+  ASSERT_NEAR(m, 5.0, 1e-12);
+  ASSERT_NEAR(inertia / m, 40.0 / 9.0, 1e-12);
+  const HeaviestChord h = heaviest_chord(triangle, m, inertia, 0.0);
+  EXPECT_NEAR(h.arm, 10.0 / 3.0, 1e-12);
+  EXPECT_NEAR(h.chord, 14.0 / 3.0, 1e-12);
+  EXPECT_NEAR(h.weight, 49.0 / 15.0, 1e-12);
+}
+
+TEST(TimeStep, HeaviestChordAgreesWithABruteForceSearch) {
+  // Random convex polygons of 3 to 8 corners, elongated up to 2:1, and cut depths from none
+  // to a third of the inner radius. The brute force samples 400 points per edge, so both
+  // searches approximate the same maximum from below; they must agree to 0.2 %.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 24; ++trial) {
+    const int corners = 3 + trial % 6;
+    const double a = 1.0 + unit(rng), b = 1.0;
+    std::vector<Vec2> v;
+    for (int k = 0; k < corners; ++k) {
+      const double phi = 2.0 * M_PI * (k + 0.4 * unit(rng)) / corners;
+      v.emplace_back(a * std::cos(phi), b * std::sin(phi));
     }
+    const Shape s = make_polygon(v);
+    const double m = s.area, inertia = s.polar_moment;
+    const double depth = (trial % 4) / 9.0 * s.inner_radius;
+    const double found = heaviest_chord(s, m, inertia, depth).weight;
+    const double brute = brute_force_heaviest_chord(s, m, inertia, depth, 400);
+    EXPECT_NEAR(found, brute, 2e-3 * brute) << "trial " << trial << ", " << corners << " corners, depth " << depth;
+  }
 }
 
 TEST(TimeStep, TheSmallestGrainSetsTheBound) {
@@ -51,26 +118,86 @@ TEST(TimeStep, TheSmallestGrainSetsTheBound) {
   const TimeStepBound b = stable_time_step({make_disc(0.004), make_disc(0.002), make_disc(0.003)}, 5000.0, c,
                                            Scheme::verlet);
   EXPECT_EQ(b.stiffest_grain, 1);
-  // Undamped, the limit scales with sqrt(m / k) ~ r: halving the grain halves the step.
+  // Undamped and frictionless, the limit scales with sqrt(m / k) ~ r: halving the grain halves
+  // the step.
   c.damping_gamma = 0.0;
+  c.friction_mu = 0.0;
   EXPECT_NEAR(stable_time_step({make_disc(0.002)}, 5000.0, c, Scheme::verlet).stable_limit,
               0.5 * stable_time_step({make_disc(0.004)}, 5000.0, c, Scheme::verlet).stable_limit, 1e-15);
 }
 
-TEST(TimeStep, LiteralTangentialHistoryIsBoundedByItsTangentialMode) {
-  // Eq. A.2 read literally stores the viscous term too: the tangential spring becomes
-  // k_t + sqrt(k_t m_t) / dt. For two discs touching at the rim, 1/m_t = 2 (1/m + r^2/I) = 6/m
-  // (I = m r^2 / 2); with omega_t = sqrt(k_t / m_t) the scheme is stable while
-  // (omega_t dt)^2 + omega_t dt <= L^2.
+TEST(TimeStep, AStiffTangentialSpringSetsTheBound) {
+  // Two discs touching at the rim: 1/m_t = 2 (1/m + r^2/I) = 6/m (I = m r^2 / 2). With
+  // k_t = 2 E and no damping, the tangential mode (omega_t^2 = 12 E/m) is stiffer than the
+  // normal one (8 E/m), and its own limit decides.
   const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
-  for (Scheme scheme : {Scheme::gear5, Scheme::verlet}) {
-    ContactParameters spring, total;
-    total.tangential_history = TangentialHistory::total;
-    const double L = stability_limit_omega_dt(scheme);
-    const double omega_t = std::sqrt(total.tangential_stiffness_ratio * total.youngs_modulus * 6.0 / m);
-    const double tangential = 0.5 * (std::sqrt(1.0 + 4.0 * L * L) - 1.0) / omega_t;
-    const double normal = stable_time_step({make_disc(r)}, rho, spring, scheme).stable_limit;
-    const double expected = std::min(normal, tangential);
-    EXPECT_NEAR(stable_time_step({make_disc(r)}, rho, total, scheme).stable_limit, expected, 1e-12 * expected);
+  for (TangentialHistory history : {TangentialHistory::spring, TangentialHistory::total})
+    for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog}) {
+      ContactParameters c;
+      c.damping_gamma = 0.0;
+      c.tangential_stiffness_ratio = 2.0;
+      c.tangential_history = history;
+      const double omega_t = std::sqrt(c.tangential_stiffness_ratio * c.youngs_modulus * 6.0 / m);
+      const double tangential = tangential_limit_omega_dt(scheme, history) / omega_t;
+      const double expected = std::min(tangential, expected_normal_limit(scheme, c, 2.0 * r / m, r / 2, m));
+      const TimeStepBound b = stable_time_step({make_disc(r)}, rho, c, scheme);
+      EXPECT_NEAR(b.stable_limit, expected, 1e-12 * expected) << scheme_name(scheme);
+      EXPECT_NEAR(b.omega_max, omega_t, 1e-9 * omega_t) << scheme_name(scheme) << ": the tangential mode decides";
+    }
+}
+
+namespace {
+// One tangential degree of freedom of mass m_t = 1 on the contact law's spring (k_t = 1, normal
+// force far above the Coulomb cap), integrated by the scheme from a slip of 1 at rest. Returns
+// the largest energy relative to the start: bounded if stable, huge if not.
+double tangential_energy_growth(Scheme scheme, TangentialHistory history, double omega_dt, int steps) {
+  ContactParameters law;
+  law.youngs_modulus = 1.0 / law.tangential_stiffness_ratio;  // k_t = 1
+  law.friction_mu = 1.0;
+  law.tangential_history = history;
+  const double dt = omega_dt;  // omega_t = sqrt(k_t / m_t) = 1
+  MotionState m;
+  m.resize(1);
+  const std::vector<int> bodies{0};
+  std::vector<double> accel(3, 0.0);
+  // The body is grain a of the pair, b is fixed: the slip is its coordinate, and the law's
+  // tangential force f acts on it as -f. Start from a slip of 1 with the spring at k_t * 1.
+  double spring = 1.0;
+  m.d[0][0] = 1.0;
+  m.d[2][0] = -spring;
+  double worst = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    predict(scheme, m, bodies, dt);
+    ContactKinematics kin;
+    kin.area = 1e12;  // R = E A / l: no cap
+    kin.chord = 1.0;
+    kin.approach_speed = 0.0;
+    kin.slip_speed = m.d[1][0];
+    kin.normal_mass = kin.tangential_mass = 1.0;
+    const ContactForce f = contact_force(law, kin, 1.0, spring, dt);
+    spring = f.spring;
+    accel[0] = -f.tangential;
+    correct(scheme, m, accel, bodies, dt);
+    // The spring's own energy is spring^2 / (2 k_t); it differs from the displacement's when
+    // the history stores the viscous term too, so bound both.
+    const double e = 0.5 * m.d[1][0] * m.d[1][0] + 0.5 * std::max(m.d[0][0] * m.d[0][0], spring * spring);
+    worst = std::max(worst, e / 0.5);
+    if (!std::isfinite(e)) return INFINITY;
+  }
+  return worst;
+}
+}  // namespace
+
+TEST(TimeStep, TangentialSpringLimitsHoldForTheContactLaw) {
+  for (TangentialHistory history : {TangentialHistory::spring, TangentialHistory::total}) {
+    for (Scheme scheme : {Scheme::verlet, Scheme::leapfrog}) {  // exact: both sides
+      const double limit = tangential_limit_omega_dt(scheme, history);
+      EXPECT_LT(tangential_energy_growth(scheme, history, 0.99 * limit, 20000), 10.0) << scheme_name(scheme);
+      EXPECT_GT(tangential_energy_growth(scheme, history, 1.01 * limit, 20000), 1e3) << scheme_name(scheme);
+    }
+    // Gear: safe at its bound, unstable 10 % above.
+    const double limit = tangential_limit_omega_dt(Scheme::gear5, history);
+    EXPECT_LT(tangential_energy_growth(Scheme::gear5, history, limit, 100000), 10.0);
+    EXPECT_GT(tangential_energy_growth(Scheme::gear5, history, 1.1 * limit, 100000), 1e3);
   }
 }

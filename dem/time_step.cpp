@@ -69,10 +69,10 @@ struct CornerChords {
 //  - Leapfrog: v dt is the exact displacement, so the spring is a damped oscillator:
 //    2 (sqrt(1 + 1/4) - 1/2). With the viscous term stored too (TangentialHistory::total) it is
 //    an undamped spring k_t + sqrt(k_t m_t)/dt: x^2 + x <= 4 with x = omega_t dt.
-//  - Verlet: v = v + a dt overshoots the displacement; the characteristic polynomial has a root
+//  - Verlet: its v + a dt overshoots the displacement; the characteristic polynomial has a root
 //    at -1 when x^2 + 2 x = 2 (spring), or x^2 + x = 2 (total).
-//  - Gear 5: measured on the model problem (tests/dem/integrator_test.cpp): 0.152 and 0.2595,
-//    taken as 0.15 and 0.25.
+//  - Gear 5: measured on the model problem (the one tests/dem/time_step_test.cpp integrates):
+//    0.152 and 0.2595, taken as 0.15 and 0.25.
 double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history) {
   const bool total = history == TangentialHistory::total;
   switch (scheme) {

@@ -106,7 +106,9 @@ HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, 
           const double value = chords.evaluate(u, w);
           if (value > best_here) best_here = value, u_best = u, w_best = w;
         }
-      if (best_here < 0.0) break;  // every chord to edge j is too deep: so are those beyond it
+      // The part cut off only grows as Q moves on round the boundary (it stays convex and keeps
+      // what it had), so the search stops at the first edge with no admissible chord on the grid.
+      if (best_here < 0.0) break;
       double spacing = 1.0 / coarse;
       for (int r = 0; r < rounds; ++r) {
         const double u0 = u_best, w0 = w_best;

@@ -152,3 +152,26 @@ TEST(World, DeactivatedGrainLosesItsContacts) {
   w.step();
   for (const Contact& c : w.contacts()) EXPECT_TRUE(c.a != gone && c.b != gone);
 }
+
+TEST(World, RecordsTheDeepestOverlap) {
+  // Two squares of side s face to face, overlapping by d: the overlap is an s x d rectangle, so
+  // 2 A / chord = 2 d, and the inner radius is s/2: the record is 4 d / s. It keeps the deepest
+  // value as the squares separate.
+  const double s = 0.004, d = 1e-4;
+  WorldSettings settings;
+  settings.scheme = Scheme::verlet;
+  settings.gravity = {0, 0};
+  settings.time_step = 1e-9;  // the squares barely move in one step
+  World w(settings);
+  const Shape square = make_polygon({{0, 0}, {s, 0}, {s, s}, {0, s}});
+  const int a = w.add_grain(square, 5000.0), b = w.add_grain(square, 5000.0);
+  w.activate(a, {0, 0}, 0.0, {0, 0}, 0.0);
+  w.activate(b, {s - d, 0}, 0.0, {0, 0}, 0.0);
+  EXPECT_EQ(w.deepest_overlap(), 0.0);
+  w.step();
+  ASSERT_EQ(w.contacts().size(), 1u);
+  EXPECT_NEAR(w.deepest_overlap(), 4.0 * d / s, 1e-6 * 4.0 * d / s);
+  const double first = w.deepest_overlap();
+  for (int k = 0; k < 1000; ++k) w.step();  // pushed apart: shallower
+  EXPECT_EQ(w.deepest_overlap(), first);
+}

@@ -368,6 +368,7 @@ void World::collide_and_compute_forces() {
   {
     const ThreadBlock block = this_threads_block(n);
     const std::size_t begin = block.begin, end = block.end;
+    double deepest = 0.0;
     // The spring history of contacts that persist: both lists are sorted by key, so one search
     // finds where the block starts in the old contacts and a merge walk does the rest.
     std::size_t old = begin == end ? 0
@@ -433,7 +434,14 @@ void World::collide_and_compute_forces() {
       out.area = o.area;
       out.chord = o.chord;
       touching_[c] = 1;
+      // The overlap is convex and the chord joins two points of its boundary, so no point of it
+      // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
+      const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
+      const double inner = is_wall(a) ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
+      deepest = std::max(deepest, depth / inner);
     }
+#pragma omp critical
+    deepest_overlap_ = std::max(deepest_overlap_, deepest);  // a maximum: the same in any order
   }
 
   // Gather: sum forces and torques on bodies in pair order (deterministic whatever the
@@ -444,12 +452,6 @@ void World::collide_and_compute_forces() {
     if (!touching_[c]) continue;
     if (kept != c) scratch_contacts_[kept] = scratch_contacts_[c];
     const Contact& ct = scratch_contacts_[kept++];
-    // The overlap is convex and the chord joins two points of its boundary, so no point of it
-    // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
-    const double depth = ct.chord > 0.0 ? 2.0 * ct.area / ct.chord : std::sqrt(ct.area);
-    const double inner = is_wall(ct.a) ? shapes_[ct.b].inner_radius
-                                       : std::min(shapes_[ct.a].inner_radius, shapes_[ct.b].inner_radius);
-    deepest_overlap_ = std::max(deepest_overlap_, depth / inner);
     const Vec2 f = ct.force_on_b();
     const Vec2 ra = ct.point - position(ct.a), rb = ct.point - position(ct.b);
     contact_force_[3 * ct.a] -= f.x();

@@ -14,7 +14,8 @@ namespace pilelab::dem {
 //   /scene                 scene text the run was started with
 //   /world/d0 .. d5        MotionState derivatives, 3 per body
 //   /world/active          per body 0/1
-//   /world attrs           time_s, steps, gravity_y, deepest_overlap
+//   /world attrs           time_s, steps, gravity_y; deepest_overlap (fraction), deepest_overlap_time_s,
+//                          deepest_overlap_x_m, deepest_overlap_y_m, deepest_overlap_a, deepest_overlap_b
 //   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
 //                          pour_stalled; /protocol/rng (4 words)
@@ -43,7 +44,13 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/world", "time_s", world.time());
     f.set_attribute("/world", "steps", world.steps());
     f.set_attribute("/world", "gravity_y", world.settings().gravity.y());
-    f.set_attribute("/world", "deepest_overlap", world.deepest_overlap());
+    const DeepestOverlap& deepest = world.deepest_overlap();
+    f.set_attribute("/world", "deepest_overlap", deepest.fraction);
+    f.set_attribute("/world", "deepest_overlap_time_s", deepest.time);
+    f.set_attribute("/world", "deepest_overlap_x_m", deepest.point.x());
+    f.set_attribute("/world", "deepest_overlap_y_m", deepest.point.y());
+    f.set_attribute("/world", "deepest_overlap_a", static_cast<std::int64_t>(deepest.a));
+    f.set_attribute("/world", "deepest_overlap_b", static_cast<std::int64_t>(deepest.b));
 
     const auto& cs = world.contacts();
     std::vector<std::int64_t> a, b;
@@ -112,7 +119,13 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   world.restore_activity(std::vector<std::uint8_t>(active.begin(), active.end()));
   world.restore_clock(f.attribute_double("/world", "time_s"), f.attribute_int("/world", "steps"));
   world.set_gravity({0.0, f.attribute_double("/world", "gravity_y")});
-  world.restore_deepest_overlap(f.attribute_double("/world", "deepest_overlap"));
+  DeepestOverlap deepest;
+  deepest.fraction = f.attribute_double("/world", "deepest_overlap");
+  deepest.time = f.attribute_double("/world", "deepest_overlap_time_s");
+  deepest.point = {f.attribute_double("/world", "deepest_overlap_x_m"), f.attribute_double("/world", "deepest_overlap_y_m")};
+  deepest.a = static_cast<std::int32_t>(f.attribute_int("/world", "deepest_overlap_a"));
+  deepest.b = static_cast<std::int32_t>(f.attribute_int("/world", "deepest_overlap_b"));
+  world.restore_deepest_overlap(deepest);
 
   const auto a = f.read_ints("/contacts/a"), b = f.read_ints("/contacts/b");
   const auto spring = f.read_doubles("/contacts/spring"), point = f.read_doubles("/contacts/point"),

@@ -82,10 +82,52 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
   return o;
 }
 
+// One Sutherland-Hodgman pass: keep the part of the polygon vertex(0..n-1) left of the line
+// through e0 along d. Returns false, writing nothing, when the whole polygon lies strictly on
+// the inner side (the edge cuts nothing off); otherwise writes the clipped polygon to out[0..m).
+// side(p) = cross(d, p - e0) = |d| * signed distance of p from the line (left: inside); a point
+// within length_tol of the line counts as on it (|side| <= length_tol |d|, squared: side_tol2).
+template <class VertexAt>
+bool clip_by_edge(const VertexAt& vertex, int n, const Vec2& e0, const Vec2& d, double side_tol2, ClipVertex* out,
+                  int& m) {
+  double side[max_clip];
+  bool all_inside = true;
+  for (int i = 0; i < n; ++i) {
+    double v = cross(d, vertex(i).p - e0);
+    if (v * v <= side_tol2) v = 0.0;
+    side[i] = v;
+    all_inside = all_inside && v > 0.0;
+  }
+  if (all_inside) return false;
+  m = 0;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1 == n) ? 0 : i + 1;
+    const ClipVertex s_v = vertex(i);
+    const double s_here = side[i], s_next = side[j];
+    const bool s_in = s_here >= 0.0, e_in = s_next >= 0.0;
+    if (s_in) out[m++] = {s_v.p, (s_here == 0.0 && s_next == 0.0) ? int(owner_both) : s_v.owner};
+    if (s_in != e_in) {
+      // The signs differ strictly on one side, so the denominator is never zero.
+      const double t = s_here / (s_here - s_next);
+      const Vec2 x = s_v.p + t * (vertex(j).p - s_v.p);
+      out[m++] = {x, s_in ? int(owner_b) : s_v.owner};
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                          const Vec2& centroid_b) {
+  double longest2 = 0.0;
+  for (int i = 0; i < na; ++i) longest2 = std::max(longest2, (a[i + 1 == na ? 0 : i + 1] - a[i]).squaredNorm());
+  for (int k = 0; k < nb; ++k) longest2 = std::max(longest2, (b[k + 1 == nb ? 0 : k + 1] - b[k]).squaredNorm());
+  return overlap_polygons(a, na, centroid_a, b, nb, centroid_b, std::sqrt(longest2));
+}
+
+Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                         const Vec2& centroid_b, double longest_edge) {
   // Cheap rejection first: most pairs the broad phase hands over whose bounding circles overlap
   // but shapes do not are separated along the line of centres (a separating-axis test). The
   // same loop finds b's corner nearest to a along that line.
@@ -103,17 +145,7 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
     }
     if (max_a < min_b) return {};
   }
-  // Sutherland-Hodgman: clip a by each edge's half-plane of b, recording for every output
-  // vertex whose boundary its outgoing edge follows.
-  ClipPolygon buf[2];
-  int n = na;
-  double scale = 0.0;
-  for (int i = 0; i < na; ++i) {
-    buf[0][i] = {a[i], owner_a};
-    scale = std::max(scale, (a[i + 1 == na ? 0 : i + 1] - a[i]).squaredNorm());
-  }
-  for (int k = 0; k < nb; ++k) scale = std::max(scale, (b[k + 1 == nb ? 0 : k + 1] - b[k]).squaredNorm());
-  const double length_tol = 1e-12 * std::sqrt(scale);
+  const double length_tol = 1e-12 * longest_edge;
   const double length_tol2 = length_tol * length_tol;
 
   // Start with the edge of b that faces a (one of the two at b's corner nearest to a): for the
@@ -130,38 +162,24 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
                 ? prev
                 : support;
   }
-  int cur = 0;
-  double side[max_clip];
-  for (int pass = 0, k = first; pass < nb && n > 0; ++pass, k = (k + 1 == nb ? 0 : k + 1)) {
-    const Vec2& e0 = b[k];
-    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - e0;
-    // side(p) = cross(d, p - e0) = |d| * signed distance of p from the edge line (left: inside);
-    // a point within length_tol of the line counts as on it (|side| <= length_tol |d|, squared).
-    const double side_tol2 = length_tol2 * d.squaredNorm();
+  // Sutherland-Hodgman: clip a by each edge's half-plane of b in turn, recording for every
+  // output vertex whose boundary its outgoing edge follows. The first pass reads a's corners.
+  const auto clip = [&](const auto& vertex, int n, int k, ClipVertex* out, int& m) {
+    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - b[k];
+    return clip_by_edge(vertex, n, b[k], d, length_tol2 * d.squaredNorm(), out, m);
+  };
+  ClipPolygon buf[2];
+  int n = 0, cur = 0;
+  const auto corner = [a](int i) { return ClipVertex{a[i], owner_a}; };
+  if (!clip(corner, na, first, buf[0].data(), n)) {
+    for (int i = 0; i < na; ++i) buf[0][i] = corner(i);  // the first edge cut nothing off
+    n = na;
+  }
+  for (int pass = 1, k = first; pass < nb && n > 0; ++pass) {
+    k = k + 1 == nb ? 0 : k + 1;
     const ClipVertex* in = buf[cur].data();
-    bool all_inside = true;
-    for (int i = 0; i < n; ++i) {
-      double v = cross(d, in[i].p - e0);
-      if (v * v <= side_tol2) v = 0.0;
-      side[i] = v;
-      all_inside = all_inside && v > 0.0;
-    }
-    if (all_inside) continue;  // this edge cuts nothing off
-    ClipVertex* out = buf[1 - cur].data();
     int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const int j = (i + 1 == n) ? 0 : i + 1;
-      const ClipVertex& s_v = in[i];
-      const double s_here = side[i], s_next = side[j];
-      const bool s_in = s_here >= 0.0, e_in = s_next >= 0.0;
-      if (s_in) out[m++] = {s_v.p, (s_here == 0.0 && s_next == 0.0) ? int(owner_both) : s_v.owner};
-      if (s_in != e_in) {
-        // The signs differ strictly on one side, so the denominator is never zero.
-        const double t = s_here / (s_here - s_next);
-        const Vec2 x = s_v.p + t * (in[j].p - s_v.p);
-        out[m++] = {x, s_in ? int(owner_b) : s_v.owner};
-      }
-    }
+    if (!clip([in](int i) { return in[i]; }, n, k, buf[1 - cur].data(), m)) continue;
     n = m;
     cur = 1 - cur;
   }

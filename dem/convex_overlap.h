@@ -30,6 +30,12 @@ struct Overlap {
 Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                          const Vec2& centroid_b);
 
+/// The same, given the longest edge of either polygon [m] (which sets the tolerance below which
+/// a point counts as on a line, 1e-12 of it): the World passes it from the shapes rather than
+/// measure the edges anew for every pair.
+Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                         const Vec2& centroid_b, double longest_edge);
+
 /// Two discs: the lens of two circles.
 Overlap overlap_discs(const Vec2& ca, double ra, const Vec2& cb, double rb);
 

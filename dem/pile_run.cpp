@@ -93,6 +93,36 @@ double kinetic_energy_per_grain(const World& w, const Snapshot& s) {
   return s.grain_count() ? e / s.grain_count() : 0.0;
 }
 
+// What a user should know about a finished run that did not stop it, one sentence each.
+std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::json& report) {
+  std::vector<std::string> warnings;
+  char text[512];
+  if (p.state().lost > 0) {
+    std::snprintf(text, sizeof text, "%d grains fell off the plate; a wider dem.container.plate_width_m keeps them",
+                  p.state().lost);
+    warnings.emplace_back(text);
+  }
+  const DeepestOverlap& deepest = p.world().deepest_overlap();
+  if (deepest.fraction > max_overlap_depth_fraction) {
+    std::snprintf(text, sizeof text,
+                  "an overlap reached %.2f of a grain's inner radius (bodies %d and %d at t = %.4g s, x = %.4g m, "
+                  "y = %.4g m); the stable time step assumes at most %.2f, so dem.integrator.time_step_s may need "
+                  "to be smaller",
+                  deepest.fraction, deepest.a, deepest.b, deepest.time, deepest.point.x(), deepest.point.y(),
+                  max_overlap_depth_fraction);
+    warnings.emplace_back(text);
+  }
+  for (const auto& [name, info] : report["settling"].items())
+    if (!info["reached_threshold"].get<bool>()) {
+      std::snprintf(text, sizeof text,
+                    "snapshot '%s' was taken at dem.settle.max_time_s with %.3g J per grain, above "
+                    "dem.settle.kinetic_energy_per_grain_J",
+                    name.c_str(), info["kinetic_energy_per_grain_J"].get<double>());
+      warnings.emplace_back(text);
+    }
+  return warnings;
+}
+
 nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threads) {
   const World& w = p.world();
   const DemScene& scene = p.scene();
@@ -119,7 +149,11 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["contacts_final"] = w.contacts().size();
   r["time_step_s"] = w.settings().time_step;
   r["stable_time_step_s"] = p.time_step_bound().stable_limit;
-  r["deepest_overlap_fraction"] = w.deepest_overlap();
+  const DeepestOverlap& deepest = w.deepest_overlap();
+  r["deepest_overlap_fraction"] = deepest.fraction;
+  r["deepest_overlap_time_s"] = deepest.time;
+  r["deepest_overlap_point_m"] = {deepest.point.x(), deepest.point.y()};
+  r["deepest_overlap_bodies"] = {deepest.a, deepest.b};
   r["integrator"] = scheme_name(scene.scheme);
   r["threads"] = threads;
   r["cores"] = std::thread::hardware_concurrency();
@@ -230,22 +264,9 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
                      std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
                      "): check dem.pour.funnel_x_m and dem.container.plate_width_m");
-  if (!opt.quiet) {
-    if (protocol.state().lost > 0)
-      std::fprintf(stderr, "warning: %d grains fell off the plate; a wider dem.container.plate_width_m keeps them\n",
-                   protocol.state().lost);
-    if (world.deepest_overlap() > max_overlap_depth_fraction)
-      std::fprintf(stderr,
-                   "warning: an overlap reached %.2f of a grain's inner radius; the stable time step assumes at "
-                   "most %.2f, so dem.integrator.time_step_s may need to be smaller\n",
-                   world.deepest_overlap(), max_overlap_depth_fraction);
-    for (const auto& [name, info] : report["settling"].items())
-      if (!info["reached_threshold"].get<bool>())
-        std::fprintf(stderr,
-                     "warning: snapshot '%s' was taken at dem.settle.max_time_s with %.3g J per grain, above "
-                     "dem.settle.kinetic_energy_per_grain_J\n",
-                     name.c_str(), info["kinetic_energy_per_grain_J"].get<double>());
-  }
+  report["warnings"] = run_warnings(protocol, report);
+  if (!opt.quiet)
+    for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
   write_report_section(opt.out_dir + "/report.json", "dem", report);
   if (!opt.quiet)
     std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",

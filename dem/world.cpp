@@ -362,6 +362,11 @@ void World::collide_and_compute_forces() {
   const ContactParameters& law = settings_.contact;
   const double dt = settings_.time_step;
 
+  // The deepest overlap of this step: each thread's deepest, the smaller pair key breaking
+  // ties, so the record is the same whatever the threads.
+  double step_deepest = 0.0;
+  std::size_t step_deepest_pair = n;
+
   // Each candidate pair is independent: collide and evaluate the contact law in parallel, each
   // thread over a consecutive block of the sorted candidates.
 #pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
@@ -369,6 +374,7 @@ void World::collide_and_compute_forces() {
     const ThreadBlock block = this_threads_block(n);
     const std::size_t begin = block.begin, end = block.end;
     double deepest = 0.0;
+    std::size_t deepest_pair = n;
     // The spring history of contacts that persist: both lists are sorted by key, so one search
     // finds where the block starts in the old contacts and a merge walk does the rest.
     std::size_t old = begin == end ? 0
@@ -387,7 +393,8 @@ void World::collide_and_compute_forces() {
       const Vec2 pa = position(a), pb = position(b);
       Overlap o;
       if (sa.kind == ShapeKind::polygon && sb.kind == ShapeKind::polygon) {
-        o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb);
+        o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb,
+                             std::max(sa.longest_edge, sb.longest_edge));
       } else if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
       } else if (sa.kind == ShapeKind::disc) {
@@ -438,10 +445,20 @@ void World::collide_and_compute_forces() {
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
       const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
       const double inner = is_wall(a) ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
-      deepest = std::max(deepest, depth / inner);
+      if (depth / inner > deepest) {
+        deepest = depth / inner;
+        deepest_pair = c;
+      }
     }
 #pragma omp critical
-    deepest_overlap_ = std::max(deepest_overlap_, deepest);  // a maximum: the same in any order
+    if (deepest > step_deepest || (deepest == step_deepest && deepest_pair < step_deepest_pair)) {
+      step_deepest = deepest;
+      step_deepest_pair = deepest_pair;
+    }
+  }
+  if (step_deepest > deepest_overlap_.fraction) {
+    const Contact& ct = scratch_contacts_[step_deepest_pair];
+    deepest_overlap_ = {step_deepest, time_ + dt, ct.point, ct.a, ct.b};
   }
 
   // Gather: sum forces and torques on bodies in pair order (deterministic whatever the

@@ -30,6 +30,17 @@ struct Contact {
   Vec2 force_on_b() const { return normal_force * normal + tangential_force * perp(normal); }
 };
 
+/// The deepest overlap a run has met: how deep, when and where. Its depth is 2 A / chord (no
+/// point of a convex overlap lies farther from its chord) over the smaller inner radius of the
+/// pair (the grain's, against a wall); the stable time step assumes it stays below
+/// max_overlap_depth_fraction (time_step.h).
+struct DeepestOverlap {
+  double fraction = 0.0;  ///< depth over inner radius; 0 before any contact
+  double time = 0.0;      ///< end of the step in which it occurred [s]
+  Vec2 point{0, 0};       ///< the contact's force point [m]
+  std::int32_t a = -1, b = -1;  ///< the bodies, a < b
+};
+
 /// Wall-clock seconds spent in each phase of the step.
 struct StepProfile {
   double predict = 0, geometry = 0, broad_phase = 0, narrow_phase = 0, correct = 0;
@@ -102,9 +113,8 @@ class World {
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
 
   double kinetic_energy() const;  ///< of active grains, translation + rotation [J]
-  /// The deepest overlap met so far, as a fraction of the smaller inner radius of the pair: the
-  /// stable time step assumes it stays below max_overlap_depth_fraction (time_step.h).
-  double deepest_overlap() const { return deepest_overlap_; }
+  /// The deepest overlap met so far (the first, if two steps reach the same depth).
+  const DeepestOverlap& deepest_overlap() const { return deepest_overlap_; }
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
   MotionState& motion() {
@@ -114,7 +124,7 @@ class World {
   const MotionState& motion() const { return motion_; }
   std::vector<Contact>& mutable_contacts() { return contacts_; }
   void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
-  void restore_deepest_overlap(double fraction) { deepest_overlap_ = fraction; }
+  void restore_deepest_overlap(const DeepestOverlap& deepest) { deepest_overlap_ = deepest; }
   /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
   void restore_activity(const std::vector<std::uint8_t>& active);
   const std::vector<std::uint8_t>& activity() const { return active_; }
@@ -150,7 +160,7 @@ class World {
   bool neighbours_stale_ = true;
   std::int64_t neighbour_builds_ = 0;
   std::vector<Contact> contacts_;          // sorted by key
-  double deepest_overlap_ = 0.0;
+  DeepestOverlap deepest_overlap_;
   std::vector<Contact> scratch_contacts_;
   std::vector<std::uint8_t> touching_;
   // Broad-phase cell list.

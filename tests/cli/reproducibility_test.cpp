@@ -1,5 +1,7 @@
 // Same scene and seed give the same result, whatever the thread count, and a run stopped and
 // restarted from its checkpoint ends exactly where an unbroken run ends.
+#include <nlohmann/json.hpp>
+
 #include "cli_test_support.h"
 #include "dem/dem_file.h"
 
@@ -59,5 +61,13 @@ TEST_F(Reproducibility, RestartEqualsAnUnbrokenRun) {
     const auto r = run("dem " + scene + " -o " + out + " -q --restart");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     expect_identical(path("unbroken/dem.h5"), out + "/dem.h5");
+    // The deepest-overlap record travels through the checkpoint too.
+    const auto report = [](const std::string& dir) {
+      return nlohmann::json::parse(std::ifstream(dir + "/report.json"))["dem"];
+    };
+    const auto unbroken = report(path("unbroken")), restarted = report(out);
+    for (const char* key : {"deepest_overlap_fraction", "deepest_overlap_time_s", "deepest_overlap_point_m",
+                            "deepest_overlap_bodies"})
+      EXPECT_EQ(unbroken[key], restarted[key]) << key;
   }
 }

@@ -156,7 +156,7 @@ TEST(World, DeactivatedGrainLosesItsContacts) {
 TEST(World, RecordsTheDeepestOverlap) {
   // Two squares of side s face to face, overlapping by d: the overlap is an s x d rectangle, so
   // 2 A / chord = 2 d, and the inner radius is s/2: the record is 4 d / s. It keeps the deepest
-  // value as the squares separate.
+  // value, with when and where it occurred, as the squares separate.
   const double s = 0.004, d = 1e-4;
   WorldSettings settings;
   settings.scheme = Scheme::verlet;
@@ -167,11 +167,18 @@ TEST(World, RecordsTheDeepestOverlap) {
   const int a = w.add_grain(square, 5000.0), b = w.add_grain(square, 5000.0);
   w.activate(a, {0, 0}, 0.0, {0, 0}, 0.0);
   w.activate(b, {s - d, 0}, 0.0, {0, 0}, 0.0);
-  EXPECT_EQ(w.deepest_overlap(), 0.0);
+  EXPECT_EQ(w.deepest_overlap().fraction, 0.0);
   w.step();
   ASSERT_EQ(w.contacts().size(), 1u);
-  EXPECT_NEAR(w.deepest_overlap(), 4.0 * d / s, 1e-6 * 4.0 * d / s);
-  const double first = w.deepest_overlap();
+  const DeepestOverlap first = w.deepest_overlap();
+  EXPECT_NEAR(first.fraction, 4.0 * d / s, 1e-6 * 4.0 * d / s);
+  EXPECT_EQ(first.time, settings.time_step);  // the end of the first step
+  EXPECT_EQ(first.a, a);
+  EXPECT_EQ(first.b, b);
+  // The force point is the middle of the s x d overlap, which lies at x = s/2 - d/2.
+  EXPECT_NEAR(first.point.x(), 0.5 * (s - d), 1e-6 * d);
+  EXPECT_NEAR(first.point.y(), 0.0, 1e-6 * d);
   for (int k = 0; k < 1000; ++k) w.step();  // pushed apart: shallower
-  EXPECT_EQ(w.deepest_overlap(), first);
+  EXPECT_EQ(w.deepest_overlap().fraction, first.fraction);
+  EXPECT_EQ(w.deepest_overlap().time, first.time);
 }

@@ -1,0 +1,58 @@
+// A finished run reports what did not stop it but should be known: here, an overlap deeper than
+// the stable time step assumes (time_step.h), with when and where it happened.
+#include <nlohmann/json.hpp>
+
+#include "cli_test_support.h"
+
+using pilelab::test::CliTest;
+using pilelab::test::tiny_scene;
+
+namespace {
+nlohmann::json dem_report(const std::string& dir) {
+  return nlohmann::json::parse(std::ifstream(dir + "/report.json"))["dem"];
+}
+bool warns_of_deep_overlap(const nlohmann::json& report) {
+  for (const auto& w : report["warnings"])
+    if (w.get<std::string>().find("an overlap reached") != std::string::npos) return true;
+  return false;
+}
+}  // namespace
+
+class RunWarnings : public CliTest {};
+
+TEST_F(RunWarnings, ShallowContactsGiveNoOverlapWarning) {
+  // Grains dropped 6 cm onto stiff contacts: overlaps stay far below a quarter of an inner radius.
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("out") + " -q").exit_code, 0);
+  const auto report = dem_report(path("out"));
+  EXPECT_GT(report["deepest_overlap_fraction"].get<double>(), 0.0);
+  EXPECT_LT(report["deepest_overlap_fraction"].get<double>(), 0.25);
+  EXPECT_FALSE(warns_of_deep_overlap(report));
+}
+
+TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
+  // Contacts 100x softer than the paper's, and grains dropped from 30 cm: a grain of mass m
+  // landing at v sinks about v sqrt(m / E) = 2.4 m/s * sqrt(0.18 kg / 1e5 N/m) = 3 mm, about
+  // its inner radius, far beyond the quarter the time-step bound assumes.
+  std::string text = tiny_scene();
+  text.replace(text.find("funnel_height_m = 0.06"), 22, "funnel_height_m = 0.30");
+  text.replace(text.find("[dem.integrator]"), 16, "[dem.contact]\nyoungs_modulus_N_per_m = 1e5\n\n[dem.integrator]");
+  const std::string scene = write_scene("soft.toml", text);
+  const auto r = run("dem " + scene + " -o " + path("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto report = dem_report(path("out"));
+  const double fraction = report["deepest_overlap_fraction"].get<double>();
+  EXPECT_GT(fraction, 0.25);
+  EXPECT_TRUE(warns_of_deep_overlap(report));
+  EXPECT_NE(r.output.find("warning: an overlap reached"), std::string::npos) << r.output;
+  // When: within the run. Where: above the plate, between two bodies that exist.
+  const double t = report["deepest_overlap_time_s"].get<double>();
+  EXPECT_GT(t, 0.0);
+  EXPECT_LE(t, report["simulated_time_s"].get<double>());
+  const auto bodies = report["deepest_overlap_bodies"];
+  EXPECT_GE(bodies[0].get<int>(), 0);
+  EXPECT_LT(bodies[0].get<int>(), bodies[1].get<int>());
+  const double y = report["deepest_overlap_point_m"][1].get<double>();
+  EXPECT_GT(y, -0.02);  // the plate's top is y = 0 (docs/SCENES.md)
+  EXPECT_LT(y, 0.30);
+}

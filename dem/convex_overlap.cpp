@@ -175,13 +175,34 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
     for (int i = 0; i < na; ++i) buf[0][i] = corner(i);  // the first edge cut nothing off
     n = na;
   }
+  // After the first pass a is mostly a small sliver, which most of b's other edges leave alone.
+  // A circle about the sliver tells so at the cost of one cross product: an edge whose line
+  // passes farther from the centre than the radius (plus a margin far above round-off, 1e-9
+  // of the longest edge, and the on-the-line tolerance) has every vertex strictly inside, so
+  // skipping it gives exactly what the pass would have.
+  const double margin = length_tol + 1e-9 * longest_edge;
+  Vec2 centre(0, 0);
+  double reach2 = 0.0;  // (radius + margin)^2
+  const auto enclose = [&](const ClipVertex* v, int count) {
+    centre = Vec2(0, 0);
+    for (int i = 0; i < count; ++i) centre += v[i].p;
+    centre /= count;
+    double r2 = 0.0;
+    for (int i = 0; i < count; ++i) r2 = std::max(r2, (v[i].p - centre).squaredNorm());
+    reach2 = (std::sqrt(r2) + margin) * (std::sqrt(r2) + margin);
+  };
+  if (n > 0) enclose(buf[0].data(), n);
   for (int pass = 1, k = first; pass < nb && n > 0; ++pass) {
     k = k + 1 == nb ? 0 : k + 1;
+    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - b[k];
+    const double centre_side = cross(d, centre - b[k]);  // |d| times the centre's distance
+    if (centre_side > 0.0 && centre_side * centre_side > reach2 * d.squaredNorm()) continue;
     const ClipVertex* in = buf[cur].data();
     int m = 0;
     if (!clip([in](int i) { return in[i]; }, n, k, buf[1 - cur].data(), m)) continue;
     n = m;
     cur = 1 - cur;
+    if (n > 0) enclose(buf[cur].data(), n);
   }
   if (n < 3) return {};
   return finish(buf[cur].data(), n, length_tol, centroid_a, centroid_b);

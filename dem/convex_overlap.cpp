@@ -164,16 +164,16 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   }
   // Sutherland-Hodgman: clip a by each edge's half-plane of b in turn, recording for every
   // output vertex whose boundary its outgoing edge follows. The first pass reads a's corners.
-  const auto clip = [&](const auto& vertex, int n, int k, ClipVertex* out, int& m) {
-    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - b[k];
-    return clip_by_edge(vertex, n, b[k], d, length_tol2 * d.squaredNorm(), out, m);
-  };
+  const auto edge = [b, nb](int k) { return Vec2(b[k + 1 == nb ? 0 : k + 1] - b[k]); };
   ClipPolygon buf[2];
   int n = 0, cur = 0;
-  const auto corner = [a](int i) { return ClipVertex{a[i], owner_a}; };
-  if (!clip(corner, na, first, buf[0].data(), n)) {
-    for (int i = 0; i < na; ++i) buf[0][i] = corner(i);  // the first edge cut nothing off
-    n = na;
+  {
+    const auto corner = [a](int i) { return ClipVertex{a[i], owner_a}; };
+    const Vec2 d = edge(first);
+    if (!clip_by_edge(corner, na, b[first], d, length_tol2 * d.squaredNorm(), buf[0].data(), n)) {
+      for (int i = 0; i < na; ++i) buf[0][i] = corner(i);  // the first edge cut nothing off
+      n = na;
+    }
   }
   // After the first pass a is mostly a small sliver, which most of b's other edges leave alone.
   // A circle about the sliver tells so at the cost of one cross product: an edge whose line
@@ -194,12 +194,13 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   if (n > 0) enclose(buf[0].data(), n);
   for (int pass = 1, k = first; pass < nb && n > 0; ++pass) {
     k = k + 1 == nb ? 0 : k + 1;
-    const Vec2 d = b[k + 1 == nb ? 0 : k + 1] - b[k];
+    const Vec2 d = edge(k);
+    const double d2 = d.squaredNorm();
     const double centre_side = cross(d, centre - b[k]);  // |d| times the centre's distance
-    if (centre_side > 0.0 && centre_side * centre_side > reach2 * d.squaredNorm()) continue;
+    if (centre_side > 0.0 && centre_side * centre_side > reach2 * d2) continue;
     const ClipVertex* in = buf[cur].data();
     int m = 0;
-    if (!clip([in](int i) { return in[i]; }, n, k, buf[1 - cur].data(), m)) continue;
+    if (!clip_by_edge([in](int i) { return in[i]; }, n, b[k], d, length_tol2 * d2, buf[1 - cur].data(), m)) continue;
     n = m;
     cur = 1 - cur;
     if (n > 0) enclose(buf[cur].data(), n);

@@ -445,8 +445,9 @@ void World::collide_and_compute_forces() {
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
       const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
       const double inner = is_wall(a) ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
-      if (depth / inner > deepest) {
-        deepest = depth / inner;
+      const double fraction = depth / inner;
+      if (fraction > deepest) {
+        deepest = fraction;
         deepest_pair = c;
       }
     }

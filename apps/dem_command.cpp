@@ -16,7 +16,7 @@ void add_dem_command(CLI::App& app) {
   dem->add_option("scene", opt->scene_path, "Scene file (TOML); see docs/SCENES.md")->required()->check(CLI::ExistingFile);
   dem->add_option("-o,--out", opt->out_dir, "Output directory (created if missing)")->required();
   dem->add_flag("--restart", opt->restart, "Continue from OUT/checkpoint.h5 (bit for bit as if never stopped)");
-  dem->add_flag("-q,--quiet", opt->quiet, "No progress lines");
+  dem->add_flag("-q,--quiet", opt->quiet, "No progress lines (warnings still print)");
   dem->add_option("-j,--threads", opt->threads, "OpenMP threads for the force loop (default: all cores)")
       ->check(CLI::Range(1, 1024));
   dem->add_option("--stop-after-steps", opt->stop_after_steps,

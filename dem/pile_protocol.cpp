@@ -96,6 +96,18 @@ void PileProtocol::build_container() {
   }
 }
 
+std::string PileProtocol::body_name(int body) const {
+  std::string what = "a grain";
+  if (body == 0) {
+    what = "the plate";
+  } else if (scene_.container.side_walls && (body == 1 || body == 2)) {
+    what = body == 1 ? "the left side wall" : "the right side wall";
+  } else if (!funnel_walls_.empty() && (body == funnel_walls_.front() || body == funnel_walls_.back())) {
+    what = body == funnel_walls_.front() ? "the funnel's left plate" : "the funnel's right plate";
+  }
+  return what + " (body " + std::to_string(body) + ")";
+}
+
 bool PileProtocol::funnel_moving(double t) const {
   const PourSpec& p = scene_.pour;
   return p.funnel_speed != 0.0 && (p.funnel_travel == 0.0 || std::abs(p.funnel_speed) * t < p.funnel_travel);

@@ -53,6 +53,8 @@ class PileProtocol {
   const std::vector<WallPlacement>& wall_placements() const { return wall_placements_; }
   /// Mean kinetic energy per active grain [J].
   double kinetic_energy_per_grain() const;
+  /// What a body is, with its index, for messages: "the plate (body 0)", "a grain (body 47)".
+  std::string body_name(int body) const;
 
   /// For checkpoints.
   void restore(const ProtocolState& state, std::vector<Snapshot> snapshots, std::vector<WallPlacement> walls);

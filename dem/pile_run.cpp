@@ -105,10 +105,10 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   const DeepestOverlap& deepest = p.world().deepest_overlap();
   if (deepest.fraction > max_overlap_depth_fraction) {
     std::snprintf(text, sizeof text,
-                  "an overlap reached %.2f of a grain's inner radius (bodies %d and %d at t = %.4g s, x = %.4g m, "
-                  "y = %.4g m); the stable time step assumes at most %.2f, so dem.integrator.time_step_s may need "
+                  "an overlap reached %.2f of a grain's inner radius, between %s and %s at t = %.4g s, x = %.4g m, "
+                  "y = %.4g m; the stable time step assumes at most %.2f, so dem.integrator.time_step_s may need "
                   "to be smaller",
-                  deepest.fraction, deepest.a, deepest.b, deepest.time, deepest.point.x(), deepest.point.y(),
+                  deepest.fraction, p.body_name(deepest.a).c_str(), p.body_name(deepest.b).c_str(), deepest.time, deepest.point.x(), deepest.point.y(),
                   max_overlap_depth_fraction);
     warnings.emplace_back(text);
   }
@@ -265,8 +265,8 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
                      std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
                      "): check dem.pour.funnel_x_m and dem.container.plate_width_m");
   report["warnings"] = run_warnings(protocol, report);
-  if (!opt.quiet)
-    for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
+  // Warnings print even with --quiet, which silences progress only.
+  for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
   write_report_section(opt.out_dir + "/report.json", "dem", report);
   if (!opt.quiet)
     std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",

@@ -38,13 +38,15 @@ TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
   text.replace(text.find("funnel_height_m = 0.06"), 22, "funnel_height_m = 0.30");
   text.replace(text.find("[dem.integrator]"), 16, "[dem.contact]\nyoungs_modulus_N_per_m = 1e5\n\n[dem.integrator]");
   const std::string scene = write_scene("soft.toml", text);
-  const auto r = run("dem " + scene + " -o " + path("out"));
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto report = dem_report(path("out"));
   const double fraction = report["deepest_overlap_fraction"].get<double>();
   EXPECT_GT(fraction, 0.25);
   EXPECT_TRUE(warns_of_deep_overlap(report));
+  // --quiet silences the progress lines, not the warnings.
   EXPECT_NE(r.output.find("warning: an overlap reached"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("[pour"), std::string::npos) << r.output;
   // When: within the run. Where: above the plate, between two bodies that exist.
   const double t = report["deepest_overlap_time_s"].get<double>();
   EXPECT_GT(t, 0.0);
@@ -52,6 +54,12 @@ TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
   const auto bodies = report["deepest_overlap_bodies"];
   EXPECT_GE(bodies[0].get<int>(), 0);
   EXPECT_LT(bodies[0].get<int>(), bodies[1].get<int>());
+  // The message says what the bodies are. Walls come first and never touch each other, so the
+  // higher index is a grain; body 0 is the plate.
+  const auto named = [&](int body) { return "(body " + std::to_string(body) + ")"; };
+  EXPECT_NE(r.output.find("a grain " + named(bodies[1].get<int>())), std::string::npos) << r.output;
+  if (bodies[0].get<int>() == 0) EXPECT_NE(r.output.find("the plate " + named(0)), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(named(bodies[0].get<int>())), std::string::npos) << r.output;
   const double y = report["deepest_overlap_point_m"][1].get<double>();
   EXPECT_GT(y, -0.02);  // the plate's top is y = 0 (docs/SCENES.md)
   EXPECT_LT(y, 0.30);

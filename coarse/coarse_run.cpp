@@ -173,6 +173,7 @@ void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool 
     }
     for (const auto& [name, piles] : samples.per_pile)
       for (std::size_t k = 0; k < piles.size(); ++k) f.write("/piles/" + std::to_string(k) + "/" + name, piles[k], {}, "");
+    f.close();
   });
 }
 

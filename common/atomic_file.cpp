@@ -4,16 +4,30 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "common/error.h"
 
 namespace pilelab {
 
+namespace {
+// Forces a file's (or a directory's) contents to the disk. Without it a crash after the
+// rename could leave the new name pointing at blocks that were never written.
+bool sync_to_disk(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  ::close(fd);
+  return ok;
+}
+}  // namespace
+
 void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
     write(tmp);
+    if (!sync_to_disk(tmp)) throw InputError("cannot write " + tmp + " to the disk (fsync failed)");
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
@@ -24,6 +38,9 @@ void write_atomically(const std::string& path, const std::function<void(const st
     std::remove(tmp.c_str());
     throw InputError("cannot move " + tmp + " to " + path + ": " + ec.message());
   }
+  // The rename itself lives in the directory; a failure here leaves the new file in place.
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  sync_to_disk(dir.empty() ? "." : dir);
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {

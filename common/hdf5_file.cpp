@@ -54,6 +54,13 @@ H5File::~H5File() {
   if (id_ >= 0) H5Fclose(id_);
 }
 
+void H5File::close() {
+  const std::int64_t id = id_;
+  id_ = -1;
+  if (id >= 0 && H5Fclose(id) < 0)
+    throw InputError(path_ + ": cannot finish writing the HDF5 file (is the disk full?)");
+}
+
 void H5File::fail(const std::string& object, const std::string& what) const {
   throw InputError(path_ + ": " + object + ": " + what);
 }

@@ -20,6 +20,11 @@ class H5File {
   H5File(const H5File&) = delete;
   ~H5File();
 
+  /// Closes the file, which flushes what HDF5 still caches; throws InputError if that fails
+  /// (a full disk often shows only here). Writers call it before the file is renamed into
+  /// place; the destructor closes silently, for files abandoned by an exception.
+  void close();
+
   const std::string& path() const { return path_; }
   bool exists(const std::string& object_path) const;
   /// Names of the members of a group, in HDF5's (alphabetical) order.

@@ -162,6 +162,7 @@ void write_models_h5(const std::string& path, const std::vector<Point<2>>& point
       for (std::size_t q = 0; q < m.names.size(); ++q)
         f.write("/" + m.model + "/" + m.names[q], m.values[q], {points.size()}, m.units[q]);
     }
+    f.close();
   });
 }
 

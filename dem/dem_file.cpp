@@ -282,7 +282,8 @@ void write_dem_file(const std::string& path, const std::string& scene_text, cons
     }
     // HDF5 lists group members alphabetically; the order attribute keeps the run's order.
     f.set_attribute("/snapshots", "order", join(names, ','));
-  });  // f is closed at the end of the lambda, before the rename
+    f.close();  // before the rename: a failed flush must not replace a good file
+  });
 }
 
 void write_dem_file(const std::string& path, const std::string& scene_text, const World& world,

@@ -1,5 +1,7 @@
 #include "dem/checkpoint.h"
 
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "common/atomic_file.h"
@@ -14,7 +16,8 @@ namespace pilelab::dem {
 //   /scene                 scene text the run was started with
 //   /world/d0 .. d5        MotionState derivatives, 3 per body
 //   /world/active          per body 0/1
-//   /world attrs           time_s, steps, gravity_y; deepest_overlap (fraction), deepest_overlap_time_s,
+//   /world attrs           time_s, steps, gravity_y, time_step_s, scheme, bodies_fingerprint
+//                          (what the run was built with: a restart by another build must match); deepest_overlap (fraction), deepest_overlap_time_s,
 //                          deepest_overlap_x_m, deepest_overlap_y_m, deepest_overlap_a, deepest_overlap_b
 //   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
@@ -25,6 +28,34 @@ namespace pilelab::dem {
 namespace {
 std::string snapshots_path(const std::string& checkpoint) {
   return checkpoint.substr(0, checkpoint.size() - 3) + "_snapshots.h5";
+}
+
+std::string exact(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+// FNV-1a over every body's shape, mass and moment of inertia. The scene text alone does not
+// fix them: a build with another grain generator would draw other grains from the same seed,
+// and a restart would put them at the old grains' places with the old grains' springs.
+std::int64_t bodies_fingerprint(const World& world) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](double v) {
+    unsigned char bytes[sizeof v];
+    std::memcpy(bytes, &v, sizeof v);
+    for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ull;
+  };
+  for (int body = 0; body < world.body_count(); ++body) {
+    const Shape& shape = world.shape(body);
+    for (const Vec2& v : shape.vertices) mix(v.x()), mix(v.y());
+    mix(shape.radius);
+    mix(world.mass(body));
+    mix(world.inertia(body));
+  }
+  std::int64_t signed_h;
+  std::memcpy(&signed_h, &h, sizeof h);
+  return signed_h;
 }
 }  // namespace
 
@@ -44,6 +75,9 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/world", "time_s", world.time());
     f.set_attribute("/world", "steps", world.steps());
     f.set_attribute("/world", "gravity_y", world.settings().gravity.y());
+    f.set_attribute("/world", "time_step_s", world.settings().time_step);
+    f.set_attribute("/world", "scheme", std::string(scheme_name(world.settings().scheme)));
+    f.set_attribute("/world", "bodies_fingerprint", bodies_fingerprint(world));
     const DeepestOverlap& deepest = world.deepest_overlap();
     f.set_attribute("/world", "deepest_overlap", deepest.fraction);
     f.set_attribute("/world", "deepest_overlap_time_s", deepest.time);
@@ -93,6 +127,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "wall_time_settled", counters.wall_time_settled);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
+    f.close();
   });
 }
 
@@ -105,6 +140,20 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
     throw InputError(path + ": /scene: the checkpoint was written for a different scene text; "
                      "restart needs the scene file unchanged");
   World& world = protocol.world();
+  // The scene text is the same; the build that reads it must also make the same world of it.
+  const std::string rebuilt = ": this build makes a different world of the same scene (";
+  const std::string restart_anew = "); restart needs the build that wrote the checkpoint, or run anew without --restart";
+  const std::string scheme = f.attribute_string("/world", "scheme");
+  if (scheme != scheme_name(world.settings().scheme))
+    throw InputError(path + ": /world scheme" + rebuilt + "integrator '" + scheme_name(world.settings().scheme) +
+                     "', the checkpoint's '" + scheme + "'" + restart_anew);
+  const double time_step = f.attribute_double("/world", "time_step_s");
+  if (time_step != world.settings().time_step)
+    throw InputError(path + ": /world time_step_s" + rebuilt + "time step " + exact(world.settings().time_step) +
+                     " s, the checkpoint's " + exact(time_step) + " s" + restart_anew);
+  if (f.attribute_int("/world", "bodies_fingerprint") != bodies_fingerprint(world))
+    throw InputError(path + ": /world bodies_fingerprint" + rebuilt +
+                     "other grain shapes, masses or moments of inertia than the checkpoint's" + restart_anew);
   MotionState& m = world.motion();
   for (int k = 0; k < 6; ++k) {
     std::vector<double> d = f.read_doubles("/world/d" + std::to_string(k));

@@ -1,5 +1,7 @@
 // Every way a scene or a restart can be wrong gives a clear message that names the file and
 // the field, and a non-zero exit, never a crash or a silent run.
+#include <hdf5.h>
+
 #include <regex>
 
 #include "cli_test_support.h"
@@ -100,6 +102,53 @@ TEST_F(SceneErrors, RestartWithAChangedSceneIsRefused) {
   const auto r = run("dem " + scene + " -o " + path("out") + " -q --restart");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("written for a different scene"), std::string::npos) << r.output;
+}
+
+namespace {
+// Overwrites a scalar attribute of /world in a checkpoint, as a build that makes a different
+// world of the same scene text would have written it.
+template <typename T>
+void set_world_attribute(const std::string& file, const char* name, T value, hid_t type) {
+  // Deleted and created anew: HDF5 1.10 cannot rewrite an attribute in dense storage in place.
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t world = H5Gopen2(f, "/world", H5P_DEFAULT);
+  ASSERT_GE(world, 0);
+  EXPECT_GE(H5Adelete(world, name), 0);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(world, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(a, 0);
+  EXPECT_GE(H5Awrite(a, type, &value), 0);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Gclose(world);
+  H5Fclose(f);
+}
+}  // namespace
+
+TEST_F(SceneErrors, RestartByABuildThatMakesAnotherWorldIsRefused) {
+  // Same scene text, but another time-step bound or grain generator in the build: a restart
+  // would put other grains, or another step, into the old state.
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("out") + " -q --stop-after-steps 200").exit_code, 0);
+  const std::string checkpoint = path("out/checkpoint.h5"), kept = path("kept.h5");
+  std::filesystem::copy_file(checkpoint, kept);
+  set_world_attribute(checkpoint, "time_step_s", 1.0e-6, H5T_NATIVE_DOUBLE);
+  auto r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("checkpoint.h5: /world time_step_s: this build makes a different world"), std::string::npos)
+      << r.output;
+  std::filesystem::copy_file(kept, checkpoint, std::filesystem::copy_options::overwrite_existing);
+  set_world_attribute(checkpoint, "bodies_fingerprint", std::int64_t{12345}, H5T_NATIVE_INT64);
+  r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("checkpoint.h5: /world bodies_fingerprint: this build makes a different world"),
+            std::string::npos)
+      << r.output;
+  // The untouched checkpoint restarts.
+  std::filesystem::copy_file(kept, checkpoint, std::filesystem::copy_options::overwrite_existing);
+  r = run("dem " + scene + " -o " + path("out") + " -q --restart");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 TEST_F(SceneErrors, CorruptCheckpointIsNamed) {

@@ -10,7 +10,7 @@ namespace pilelab::dem {
 /// body centroids and the force point.
 enum class ContactLength {
   paper,  ///< l = r_i r_j / (r_i + r_j)   (paper, eq. A.1)
-  book,   ///< l = 4 r_i r_j / (r_i + r_j) (Matuttis & Chen's code: l = r for equal lever arms)
+  book,   ///< l = 4 r_i r_j / (r_i + r_j) (Matuttis & Chen's code: l = 2r, the sum of the levers, for equal levers r)
 };
 
 /// What the Cundall-Strack history holds from one step to the next (paper, eq. A.2).

@@ -57,3 +57,33 @@ TEST(ContactLaw, BothHistoriesSlideAtTheCoulombCap) {
     EXPECT_EQ(f.spring, f.tangential) << int(history);
   }
 }
+
+TEST(ContactLaw, NormalDampingIsEqA1WithTheCutOffAtZeroForce) {
+  // E = 1e7 N/m, A = 1e-8 m^2, l = 0.05 m: R = 2 N. Approaching at 0.1 m/s over a 2 mm chord:
+  // d(A/l)/dt = 2e-3 * 0.1 / 0.05 = 4e-3 m/s, sqrt(E m) = sqrt(1e7 * 0.05) = 707.107 kg/s,
+  // so D = 0.75 * 4e-3 * 707.107 = 2.12132 N.
+  ContactParameters p;
+  p.friction_mu = 0.0;
+  ContactKinematics k = sticking_contact(0.0);
+  const double l = contact_length(p, k.lever_a, k.lever_b);
+  EXPECT_DOUBLE_EQ(l, 0.05);
+  k.approach_speed = 0.1;
+  EXPECT_NEAR(contact_force(p, k, l, 0.0, 1e-5).normal, 2.0 + 0.75 * 4e-3 * std::sqrt(5e5), 1e-12);
+  // Separating at half that speed, the damping subtracts half as much...
+  k.approach_speed = -0.05;
+  EXPECT_NEAR(contact_force(p, k, l, 0.0, 1e-5).normal, 2.0 - 0.75 * 2e-3 * std::sqrt(5e5), 1e-12);
+  // ...until it would pull: the force stops at zero, never attractive.
+  k.approach_speed = -1.0;
+  EXPECT_EQ(contact_force(p, k, l, 0.0, 1e-5).normal, 0.0);
+}
+
+TEST(ContactLaw, ContactLengthsOfBothReadings) {
+  // paper: the harmonic combination r_i r_j / (r_i + r_j); a wall's infinite lever leaves the
+  // grain's. book: four times as long, so that equal levers r give l = 2 r.
+  ContactParameters p;
+  EXPECT_DOUBLE_EQ(contact_length(p, 0.003, 0.006), 0.002);
+  EXPECT_DOUBLE_EQ(contact_length(p, INFINITY, 0.004), 0.004);
+  p.contact_length = ContactLength::book;
+  EXPECT_DOUBLE_EQ(contact_length(p, 0.005, 0.005), 0.010);
+  EXPECT_DOUBLE_EQ(contact_length(p, 0.003, 0.006), 0.008);
+}

@@ -2,6 +2,7 @@
 // figures). A stage runs when its table is in the scene; it is skipped, and says so, when its
 // table and its input files are unchanged since its outputs were written (OUT/stages.json
 // keeps a fingerprint per stage); --force runs every stage.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -70,6 +71,16 @@ void make_absolute(toml::table& root, const char* table, const char* key, const 
     t->insert_or_assign(key, (std::filesystem::path(scene_dir) / *v).string());
 }
 
+// A number the earlier stages wrote to report.json; a missing or null one (a non-finite value
+// is written as null) names the key instead of failing inside the JSON library.
+double report_number(const nlohmann::json& report, const std::string& section, const std::string& key) {
+  const auto& s = report.contains(section) ? report[section] : nlohmann::json();
+  if (!s.is_object() || !s.contains(key) || !s[key].is_number())
+    throw InputError("report.json: " + section + "." + key + ": expected a number from the " + section +
+                     " stage, found " + (s.is_object() && s.contains(key) ? s[key].dump() : std::string("nothing")));
+  return s[key].get<double>();
+}
+
 // The scene for the solve stage: the user's, with what the DEM measured filled in where the
 // [continuum] table leaves it open: the bulk density of the pile (coarse) and its repose
 // angles (dem), so the models carry the same load and closure as the pile they are compared to.
@@ -81,9 +92,9 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
   if (!root["continuum"].as_table()) root.insert("continuum", toml::table{});
   toml::table& c = *root["continuum"].as_table();
   if (!c.contains("density_kg_per_m2") && report.contains("coarse"))
-    c.insert("density_kg_per_m2", report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+    c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
   if (!c.contains("gravity_m_per_s2") && report.contains("coarse"))
-    c.insert("gravity_m_per_s2", report["coarse"]["gravity_m_per_s2"].get<double>());
+    c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
   if (report.contains("dem")) {
     const auto& d = report["dem"];
     const bool measured = d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number();
@@ -110,7 +121,10 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
 void closed_loop(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report) {
   if (!report.contains("fit") || !report["fit"]["models"].contains("isotropic") || !report.contains("coarse")) return;
   const auto& iso = report["fit"]["models"]["isotropic"];
-  const double lambda = iso["lambda_N_per_m"].get<double>(), mu = iso["mu_N_per_m"].get<double>();
+  const auto constant = [&](const char* key) {  // null when the fit had no data
+    return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;
+  };
+  const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
   const double nu = lambda / (2 * (lambda + mu));
   nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
   if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
@@ -125,8 +139,8 @@ void closed_loop(const std::string& scene_path, const std::string& out_dir, cons
     c.insert("models", toml::array{"elastic"});
     // The mesh the fields live on; absolute, since the child resolves paths from its scene's dir.
     c.insert("mesh_file", std::filesystem::absolute(coarse["mesh_file"].get<std::string>()).string());
-    c.insert("density_kg_per_m2", coarse["rho_bulk_kg_per_m2"].get<double>());
-    c.insert("gravity_m_per_s2", coarse["gravity_m_per_s2"].get<double>());
+    c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
+    c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
     toml::table e;
     e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
     e.insert("shear_modulus_N_per_m", mu);
@@ -154,7 +168,9 @@ void closed_loop(const std::string& scene_path, const std::string& out_dir, cons
 
 void run_pipeline(const RunOptions& opt) {
   SceneReader scene = SceneReader::from_file(opt.scene_path);
-  std::filesystem::create_directories(opt.out_dir);
+  std::error_code made;
+  std::filesystem::create_directories(opt.out_dir, made);
+  if (made) throw InputError(opt.out_dir + ": cannot create the output directory: " + made.message());
   const auto out = [&](const std::string& f) { return (std::filesystem::path(opt.out_dir) / f).string(); };
   const std::string state_path = out("stages.json");
   nlohmann::json state = nlohmann::json::object();

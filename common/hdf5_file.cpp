@@ -252,6 +252,16 @@ std::string H5File::attribute_string(const std::string& object_path, const std::
   if (a.id < 0) fail(object_path, "missing attribute " + name);
   Handle type(H5Aget_type(a.id));
   if (H5Tget_class(type.id) != H5T_STRING) fail(object_path, "attribute " + name + " is not a string");
+  if (H5Tis_variable_str(type.id) > 0) {  // as h5py writes a Python str
+    Handle memory(H5Tcopy(H5T_C_S1));
+    H5Tset_size(memory.id, H5T_VARIABLE);
+    H5Tset_cset(memory.id, H5Tget_cset(type.id));
+    char* p = nullptr;
+    if (H5Aread(a.id, memory.id, &p) < 0 || !p) fail(object_path, "cannot read attribute " + name);
+    std::string s(p);
+    H5free_memory(p);
+    return s;
+  }
   const std::size_t n = H5Tget_size(type.id);
   std::string s(n, '\0');
   if (H5Aread(a.id, type.id, s.data()) < 0) fail(object_path, "cannot read attribute " + name);

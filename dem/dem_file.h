@@ -17,8 +17,8 @@ namespace pilelab::dem {
 constexpr const char* dem_file_format = "pilelab-dem";
 constexpr std::int64_t dem_file_format_version = 1;
 
-/// Where the walls (bodies 0..w-1) were at one instant. Walls may move (a funnel lifted at a
-/// prescribed velocity), so each snapshot stores its own wall placement.
+/// Where the walls (bodies 0..w-1) were at one instant. Walls may move (a funnel moving sideways
+/// at a prescribed velocity), so each snapshot stores its own wall placement.
 struct WallPlacement {
   std::vector<double> position;  ///< (w, 2) centroid [m]
   std::vector<double> angle;     ///< (w) [rad]

@@ -257,13 +257,14 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   run_info["time_step_s"] = world.settings().time_step;
   run_info["integrator"] = scheme_name(scene.scheme);
   run_info["scene_file"] = opt.scene_path;
-  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
-                 run_info);
-  nlohmann::json report = dem_report(protocol, counters, threads);
+  // Checked before anything is written: a failed run leaves no dem.h5 for later stages to read.
   if (world.active_grains().empty())
     throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
                      std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
                      "): check dem.pour.funnel_x_m and dem.container.plate_width_m");
+  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
+                 run_info);
+  nlohmann::json report = dem_report(protocol, counters, threads);
   report["warnings"] = run_warnings(protocol, report);
   // Warnings print even with --quiet, which silences progress only.
   for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());

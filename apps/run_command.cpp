@@ -118,7 +118,7 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
 // The closed loop of the fit: the gravity change solved with the fitted isotropic constants,
 // its displacement and strain against the DEM's. The solver runs as a child process (MPI can
 // be initialised once per process, and the solve stage may already have done so).
-void closed_loop(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report) {
+void closed_loop(const std::string& out_dir, const nlohmann::json& report) {
   if (!report.contains("fit") || !report["fit"]["models"].contains("isotropic") || !report.contains("coarse")) return;
   const auto& iso = report["fit"]["models"]["isotropic"];
   const auto constant = [&](const char* key) {  // null when the fit had no data
@@ -230,7 +230,7 @@ void run_pipeline(const RunOptions& opt) {
                     join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, [&] {
                       compare::run_compare({opt.scene_path, opt.out_dir});
 #ifdef PILELAB_WITH_CONTINUUM
-                      if (std::filesystem::exists(out("pile.msh"))) closed_loop(opt.scene_path, opt.out_dir, read_report(out("report.json")));
+                      if (std::filesystem::exists(out("pile.msh"))) closed_loop(opt.out_dir, read_report(out("report.json")));
 #endif
                     }});
 

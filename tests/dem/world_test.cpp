@@ -182,3 +182,40 @@ TEST(World, RecordsTheDeepestOverlap) {
   EXPECT_EQ(w.deepest_overlap().fraction, first.fraction);
   EXPECT_EQ(w.deepest_overlap().time, first.time);
 }
+
+TEST(World, TangentialSpringTurnsWithTheContactAndStartsAfreshAfterAJump) {
+  // A disc grain against a fixed disc wall: the normal is the line of centres, so carrying the
+  // grain around the wall by phi turns the normal by exactly phi. At rest (no slip, so no
+  // stretch and no viscous term) the next step keeps the old spring projected on the new
+  // tangent, s cos(phi); a turn of more than 60 degrees in one step is a jump to another
+  // contact, which starts with no spring.
+  for (double phi : {0.0, 0.3, -1.0, 1.1}) {  // 1.1 rad = 63 degrees
+    WorldSettings s;
+    s.scheme = Scheme::verlet;
+    s.gravity = {0, 0};
+    s.contact.friction_mu = 1.0;
+    s.contact.damping_gamma = 0.0;
+    s.time_step = 1e-6;
+    World world(s);
+    const double R = 0.01, r = 0.004, distance = R + r - 1e-5;
+    world.add_wall(make_disc(R), {0, 0}, 0.0);
+    const int g = world.add_grain(make_disc(r), 5000.0);
+    world.activate(g, {0, distance}, 0.0, {0, 0}, 0.0);
+    world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const double s0 = 0.2 * world.contacts()[0].normal_force;  // well inside the Coulomb cap
+    world.mutable_contacts()[0].spring = s0;
+    MotionState& m = world.motion();
+    for (int k = 1; k < 6; ++k)
+      for (int c = 0; c < 3; ++c) m.d[k][3 * g + c] = 0.0;
+    m.d[0][3 * g] = -distance * std::sin(phi);
+    m.d[0][3 * g + 1] = distance * std::cos(phi);
+    world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    const Contact& c = world.contacts()[0];
+    EXPECT_NEAR(c.normal.x(), -std::sin(phi), 1e-12);
+    const double expected = std::abs(phi) < M_PI / 3 ? s0 * std::cos(phi) : 0.0;
+    EXPECT_NEAR(c.spring, expected, 1e-12 * s0) << "phi " << phi;
+    EXPECT_NEAR(c.tangential_force, expected, 1e-12 * s0) << "phi " << phi;
+  }
+}

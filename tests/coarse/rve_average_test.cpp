@@ -3,8 +3,10 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "coarse/rve_average.h"
+#include "coarse/rve_study.h"
 #include "dem/shape.h"
 
 using namespace pilelab::coarse;
@@ -195,6 +197,29 @@ TEST(RveAverage, VolumeIsClippedToTheDomain) {
   RveAverager rve(s.packing, half_plane);
   EXPECT_NEAR(rve.average({0.0, 0.0}, 0.03).volume, M_PI * 0.03 * 0.03 / 2, 1e-15);
   EXPECT_NEAR(rve.average({0.0, 0.1}, 0.03).volume, M_PI * 0.03 * 0.03, 1e-15);
+}
+
+// The study grows the radius until a grain count or a radius is reached; a start radius of
+// NaN (0/0 from a pile without grains) or 0 reaches neither, so it is refused, not looped on.
+TEST(RveStudy, RefusesRadiiThatNeverGrow) {
+  Synthetic s = random_packing(6);
+  RveAverager rve(s.packing);
+  const std::vector<Vec2> points = {{0.0, 0.1}};
+  RveStudySettings ok;
+  ok.first_radius_m = 0.01;
+  ok.max_radius_m = 0.2;
+  EXPECT_GT(rve_size_study(rve, points, ok).chosen_grain_count, 0.0);
+  for (double r : {double(NAN), 0.0, -0.01, double(INFINITY)}) {
+    RveStudySettings bad = ok;
+    bad.first_radius_m = r;
+    EXPECT_THROW(rve_size_study(rve, points, bad), std::invalid_argument) << r;
+  }
+  RveStudySettings no_growth = ok;
+  no_growth.growth = 1.0;
+  EXPECT_THROW(rve_size_study(rve, points, no_growth), std::invalid_argument);
+  RveStudySettings nan_limit = ok;
+  nan_limit.max_radius_m = NAN;
+  EXPECT_THROW(rve_size_study(rve, points, nan_limit), std::invalid_argument);
 }
 
 TEST(TensorSummary, PrincipalValuesAndOrientation) {

@@ -277,10 +277,13 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   if (spacing <= 0) spacing = fields_file.attribute_double("/", "rve_radius_m");
   if (!(spacing > 0)) spacing = height / 20;
   const nlohmann::json report = read_report(in_dir(opt.out_dir, "report.json"));
-  if (repose_deg <= 0 && report.contains("dem")) {
-    const auto& d = report["dem"];
-    if (d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number())
-      repose_deg = 0.5 * (d["repose_angle_left_deg"].get<double>() + d["repose_angle_right_deg"].get<double>());
+  // The DEM's measured angles, when its report has both (a pile too flat to fit a flank
+  // writes null; an older or hand-made report may lack the keys): otherwise no FPA angle.
+  const nlohmann::json dem_report = report.is_object() ? report.value("dem", nlohmann::json::object()) : nlohmann::json();
+  if (repose_deg <= 0 && dem_report.is_object()) {
+    const nlohmann::json left = dem_report.value("repose_angle_left_deg", nlohmann::json());
+    const nlohmann::json right = dem_report.value("repose_angle_right_deg", nlohmann::json());
+    if (left.is_number() && right.is_number()) repose_deg = 0.5 * (left.get<double>() + right.get<double>());
   }
   // The axis: through the apex, the highest node.
   double apex_x = 0, top = -INFINITY;

@@ -144,3 +144,24 @@ TEST(CompareRun, IdenticalModelDiffersByZero) {
   EXPECT_DOUBLE_EQ(c["stress_scale_dem_over_model"].get<double>(), 1.0);
   std::filesystem::remove_all(dir);
 }
+
+// The DEM's section of report.json may lack the repose angles (an older or hand-made report)
+// or hold null (a flank too short to fit): compare then has no FPA angle to set beside the
+// fit, and says so with repose_angle_deg = 0 instead of reading a missing key.
+TEST(CompareRun, ReportWithoutReposeAnglesGivesNoFpaAngle) {
+  const std::string dir = temp_dir("pilelab_compare_repose");
+  write_fields(dir + "/fields.h5", elastic_field(3e6, 1e6));
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  for (const char* dem : {R"({})", R"({"repose_angle_left_deg": 30.0})", R"({"repose_angle_left_deg": 30.0,
+                           "repose_angle_right_deg": null})", R"(5)"}) {
+    std::ofstream(dir + "/report.json") << "{\"dem\": " << dem << "}\n";
+    const auto c = compare::run_compare({dir + "/scene.toml", dir});
+    EXPECT_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 0.0) << dem;
+  }
+  // Both present: their mean, and psi = 45 - phi/2.
+  std::ofstream(dir + "/report.json") << R"({"dem": {"repose_angle_left_deg": 30.0, "repose_angle_right_deg": 34.0}})";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  EXPECT_DOUBLE_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 32.0);
+  EXPECT_DOUBLE_EQ(c["fpa_angle"]["psi_fpa_deg"].get<double>(), 29.0);
+  std::filesystem::remove_all(dir);
+}

@@ -8,7 +8,9 @@
 
 #include "common/hdf5_file.h"
 #include "common/report.h"
+#include "common/error.h"
 #include "compare/compare_run.h"
+#include "compare/point_fields.h"
 
 using namespace pilelab;
 
@@ -71,6 +73,30 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
     h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), count));
     for (std::size_t k = 0; k < piles.size(); ++k) h.write("/piles/" + std::to_string(k) + "/" + name, piles[k]->fields.at(name));
   }
+}
+
+// fields.h5 with one part damaged, as a truncated copy or a hand edit would leave it.
+enum class Damage { nodes_shape, triangle_index, negative_index, points_count };
+void write_damaged_fields(const std::string& path, const Synthetic& s, Damage damage) {
+  H5File h = H5File::create(path);
+  h.set_attribute("/", "format", std::string("pilelab-fields"));
+  const std::uint64_t k = s.xy.size() / 2;
+  if (damage == Damage::nodes_shape) {
+    std::vector<double> xyz(3 * k, 0.0);
+    h.write("/mesh/nodes", xyz, {k, 3}, "m");
+  } else {
+    h.write("/mesh/nodes", s.xy, {k, 2}, "m");
+  }
+  auto tri = s.triangles;
+  if (damage == Damage::triangle_index) tri[7] = static_cast<std::int64_t>(k);
+  if (damage == Damage::negative_index) tri[7] = -1;
+  h.write("/mesh/triangles", tri, {tri.size() / 3, 3});
+  const std::uint64_t points = damage == Damage::points_count ? k - 1 : k;
+  const std::vector<double> xy(s.xy.begin(), s.xy.begin() + 2 * points);
+  h.write("/fields/points", xy, {points, 2}, "m");
+  h.set_attribute("/fields", "location", std::string("nodes"));
+  h.write("/fields/stress_yy", std::vector<double>(points, 1.0));
+  h.write("/fields/stress_yy_count", std::vector<std::int64_t>(points, 1));
 }
 
 std::string temp_dir(const std::string& name) {
@@ -163,5 +189,31 @@ TEST(CompareRun, ReportWithoutReposeAnglesGivesNoFpaAngle) {
   const auto c = compare::run_compare({dir + "/scene.toml", dir});
   EXPECT_DOUBLE_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 32.0);
   EXPECT_DOUBLE_EQ(c["fpa_angle"]["psi_fpa_deg"].get<double>(), 29.0);
+  std::filesystem::remove_all(dir);
+}
+
+// A damaged fields.h5 is an InputError naming the file and the dataset, never a read past the
+// end of an array in the integrals.
+TEST(CompareRun, DamagedMeshInFieldsFileIsNamed) {
+  const std::string dir = temp_dir("pilelab_compare_damaged");
+  const Synthetic s = elastic_field(3e6, 1e6, 4);
+  const std::pair<Damage, const char*> cases[] = {{Damage::nodes_shape, "/mesh/nodes"},
+                                                  {Damage::triangle_index, "/mesh/triangles"},
+                                                  {Damage::negative_index, "/mesh/triangles"},
+                                                  {Damage::points_count, "/fields/points"}};
+  for (const auto& [damage, dataset] : cases) {
+    const std::string path = dir + "/damaged.h5";
+    std::filesystem::remove(path);
+    write_damaged_fields(path, s, damage);
+    compare::Triangulation mesh;
+    try {
+      compare::read_dem_fields(path, &mesh);
+      ADD_FAILURE() << "no error for " << dataset;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(path), std::string::npos) << m;
+      EXPECT_NE(m.find(dataset), std::string::npos) << m;
+    }
+  }
   std::filesystem::remove_all(dir);
 }

@@ -163,6 +163,8 @@ nlohmann::json run_solve(const SolveOptions& o) {
     j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
     j["poisson_ratio"] = e.poisson_ratio;
     j["gravity_change"] = e.gravity_change;
+    // Its displacement and strain are those of this change of g: compare scales them to the DEM's.
+    outputs.fields.back().attributes["gravity_change"] = e.gravity_change;
   }
   if (s.fpa) {
     const FpaSettings& f = s.fpa_model;

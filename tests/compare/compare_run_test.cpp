@@ -37,7 +37,7 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
   auto& f = s.fields;
   for (const char* q : {"strain_xx", "strain_yy", "strain_xy", "stress_change_xx", "stress_change_yy",
                         "stress_change_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure", "stress_xx",
-                        "stress_yy", "stress_xy", "stress_orientation_deg"})
+                        "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
     f[q].resize(k);
   for (std::size_t p = 0; p < k; ++p) {
     const double x = s.xy[2 * p], y = s.xy[2 * p + 1];
@@ -50,6 +50,7 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
     f["stress_yy"][p] = -1000 * (1 - y), f["stress_xx"][p] = -400 * (1 - y), f["stress_xy"][p] = 0.0;
     f["pressure"][p] = 700 * (1 - y);
     f["stress_orientation_deg"][p] = 90.0;
+    f["displacement_x"][p] = 1e-4 * (x + 0.5 * x * x), f["displacement_y"][p] = 2e-4 * (y - 0.25 * y * y);
   }
   return s;
 }
@@ -62,6 +63,7 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
   h.set_attribute("/", "height_m", 1.0);
   h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
   h.set_attribute("/", "gravity_m_per_s2", 9.81);
+  h.set_attribute("/", "gravity_change", -0.1);
   const std::uint64_t k = s.xy.size() / 2;
   h.write("/mesh/nodes", s.xy, {k, 2}, "m");
   h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
@@ -148,26 +150,90 @@ TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
   std::filesystem::remove_all(dir);
 }
 
+// models.h5 with the DEM's fields as one model, solved with rho g = rho_g_factor times the
+// DEM's and a gravity change change_factor times the DEM's: its stresses scaled by rho_g_factor,
+// its displacements and strains by rho_g_factor * change_factor (a linear model).
+void write_models(const std::string& path, const Synthetic& s, double rho_g_factor, double change_factor,
+                  bool with_change = true, bool with_height = true) {
+  H5File m = H5File::create(path);
+  m.set_attribute("/", "rho_g_h_N_per_m", 1000.0 * rho_g_factor);  // the DEM's rho g is 1000 N/m^3, h = 1 m
+  if (with_height) m.set_attribute("/", "height_m", 1.0);
+  m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
+  for (const char* q : {"stress_xx", "stress_yy", "stress_xy"}) {
+    std::vector<double> v = s.fields.at(q);
+    for (double& x : v) x *= rho_g_factor;
+    m.write(std::string("/same/") + q, v);
+  }
+  for (const char* q : {"strain_xx", "strain_yy", "strain_xy", "displacement_x", "displacement_y"}) {
+    std::vector<double> v = s.fields.at(q);
+    for (double& x : v) x *= rho_g_factor * change_factor;
+    m.write(std::string("/same/") + q, v);
+  }
+  if (with_change) m.set_attribute("/same", "gravity_change", -0.1 * change_factor);
+}
+
+// The same fields as the DEM, differing only by rounding once put on the DEM's scale.
+void expect_same_fields(const nlohmann::json& same, std::size_t points) {
+  EXPECT_EQ(same["matched_points"].get<std::size_t>(), points);
+  for (const char* q : {"relative_l2_stress_xx", "relative_l2_stress_yy", "relative_l2_strain_xx", "relative_l2_strain_yy",
+                        "relative_l2_strain_xy", "relative_l2_displacement", "relative_l2_lower_half_stress_yy"})
+    EXPECT_NEAR(same[q].get<double>(), 0.0, 1e-14) << q;
+  EXPECT_NEAR(same["principal_axis_angle_mean_deg"].get<double>(), 0.0, 1e-6);
+}
+
 TEST(CompareRun, IdenticalModelDiffersByZero) {
   const std::string dir = temp_dir("pilelab_compare_run");
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
-  {
-    H5File m = H5File::create(dir + "/models.h5");
-    m.set_attribute("/", "rho_g_h_N_per_m", 1000.0);
-    m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
-    for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "strain_xx", "strain_yy", "strain_xy"})
-      m.write(std::string("/same/") + q, s.fields.at(q));
-  }
+  write_models(dir + "/models.h5", s, 1.0, 1.0);
   std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
   const auto c = compare::run_compare({dir + "/scene.toml", dir});
-  const auto& same = c["models"]["same"];
-  EXPECT_EQ(same["matched_points"].get<int>(), static_cast<int>(s.xy.size() / 2));
-  for (const char* q : {"relative_l2_stress_xx", "relative_l2_stress_yy", "relative_l2_strain_xx", "relative_l2_strain_yy",
-                        "relative_l2_lower_half_stress_yy"})
-    EXPECT_EQ(same[q].get<double>(), 0.0) << q;
-  EXPECT_EQ(same["principal_axis_angle_mean_deg"].get<double>(), 0.0);
-  EXPECT_DOUBLE_EQ(c["stress_scale_dem_over_model"].get<double>(), 1.0);
+  expect_same_fields(c["models"]["same"], s.xy.size() / 2);
+  EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
+  EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
+  std::filesystem::remove_all(dir);
+}
+
+// A model solved with 2.5 times the DEM's rho g and 3 times its gravity change has 2.5 times
+// its stresses and 7.5 times its displacements and strains: rescaled by the DEM's rho g (and
+// rho g Delta) over the model's, the difference vanishes; unscaled it would be 150 % and 650 %.
+TEST(CompareRun, ModelWithAnotherDensityAndGravityChangeIsRescaled) {
+  const std::string dir = temp_dir("pilelab_compare_rescaled");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 2.5, 3.0);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  expect_same_fields(c["models"]["same"], s.xy.size() / 2);
+  EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1 / 2.5, 1e-15);
+  EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1 / 7.5, 1e-15);
+  // The closed loop's comparison scales the same way.
+  const auto d = compare::compare_displacements(dir + "/fields.h5", dir + "/models.h5", "same");
+  EXPECT_NEAR(d["relative_l2_displacement"].get<double>(), 0.0, 1e-14);
+  EXPECT_NEAR(d["relative_l2_strain_yy"].get<double>(), 0.0, 1e-14);
+  std::filesystem::remove_all(dir);
+}
+
+// Without the model's gravity change (or its height, for rho g) there is no scale to compare
+// by: an error naming the file and the attribute, not a silent factor of 1.
+TEST(CompareRun, ModelWithoutItsScaleIsAnError) {
+  const std::string dir = temp_dir("pilelab_compare_unscaled");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const std::pair<bool, const char*> cases[] = {{true, "gravity_change"}, {false, "height_m"}};
+  for (const auto& [no_change, attribute] : cases) {
+    std::filesystem::remove(dir + "/models.h5");
+    write_models(dir + "/models.h5", s, 1.0, 1.0, !no_change, no_change);
+    try {
+      compare::run_compare({dir + "/scene.toml", dir});
+      ADD_FAILURE() << "no error without " << attribute;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("models.h5"), std::string::npos) << m;
+      EXPECT_NE(m.find(attribute), std::string::npos) << m;
+    }
+  }
   std::filesystem::remove_all(dir);
 }
 

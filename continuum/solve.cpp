@@ -175,6 +175,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
     j["right_repose_angle_deg"] = f.right_repose_angle_deg;
     j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
     j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
+    j["minor_axis_fixed_area_fraction"] = problem.result().minor_axis_fixed_area_fraction;
     j["equilibrium_residual_over_weight"] =
         problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
   }

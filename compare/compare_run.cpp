@@ -203,6 +203,7 @@ struct Scales {
   double stress = 1.0;  ///< (rho g)_DEM / (rho g)_model
   double change = 1.0;  ///< (rho g Delta)_DEM / (rho g Delta)_model, Delta = the relative change of g
   bool has_change = false;
+  std::string skipped;  ///< why displacement and strain are not compared (a change of 0), or empty
 };
 
 // Both sources are sampled at the same points. A gravity stress scales with rho g, so model
@@ -224,8 +225,12 @@ Scales scale_to_dem(PointFields& model, const std::string& name, const std::stri
   for (const char* c : {"stress_xx", "stress_yy", "stress_xy"})
     if (model.has(c))
       for (double& v : model.values[c]) v *= k.stress;
+  // Compared only where the DEM has data: without a later snapshot its displacement and
+  // strain fields exist but are empty, and its gravity change is 0.
   bool compared = false;
-  for (const char* c : change_fields) compared = compared || (model.has(c) && dem.has(c));
+  for (const char* c : change_fields)
+    if (model.has(c) && dem.has(c))
+      for (char ok : dem.valid.at(c)) compared = compared || ok;
   if (!compared) return k;
   double dem_change = 0, model_change = 0;
   try {
@@ -235,10 +240,16 @@ Scales scale_to_dem(PointFields& model, const std::string& name, const std::stri
     throw InputError(std::string(e.what()) + " (model '" + name + "' has displacements or strains, and comparing "
                      "them with the DEM's needs the change of g each is for: rerun pilelab solve and coarse)");
   }
-  if (dem_change == 0 || model_change == 0 || !std::isfinite(dem_change) || !std::isfinite(model_change))
+  if (!std::isfinite(dem_change) || !std::isfinite(model_change))
     throw InputError(fields_path + ", " + models_path + ": gravity_change is " + std::to_string(dem_change) +
-                     " (DEM) and " + std::to_string(model_change) + " (model '" + name +
-                     "'); displacements and strains compare only when both are finite and non-zero");
+                     " (DEM) and " + std::to_string(model_change) + " (model '" + name + "'); expected finite numbers");
+  if (dem_change == 0 || model_change == 0) {
+    // No common scale (e.g. DEM strains from a snapshot at the same g): not compared, and said so.
+    k.skipped = "gravity_change is " + std::to_string(dem_change) + " (DEM) and " + std::to_string(model_change) +
+                " (model): no rho g Delta to scale the displacements and strains by";
+    for (const char* c : change_fields) model.values.erase(c), model.valid.erase(c);
+    return k;
+  }
   k.change = dem_rho_g * dem_change / (model_rho_g * model_change);
   k.has_change = true;
   for (const char* c : change_fields)
@@ -284,6 +295,7 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
   const PointFields model = reindex(raw, match_points(raw.points, dem.points, 1e-9 * height), dem.points.size());
   nlohmann::json out = displacement_and_strain_differences(mesh, model, dem);
   if (k.has_change) out["displacement_scale_dem_over_model"] = k.change;
+  if (!k.skipped.empty()) out["displacement_comparison_skipped"] = k.skipped;
   return out;
 }
 
@@ -368,6 +380,7 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
       const PointFields model = reindex(raw, index, dem.points.size());
       nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; })}};
       if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
+      if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
         if (!model.has(c) || !dem.has(c)) continue;
         const L2Difference all = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c));

@@ -214,6 +214,23 @@ TEST(CompareRun, ModelWithAnotherDensityAndGravityChangeIsRescaled) {
   std::filesystem::remove_all(dir);
 }
 
+// A change of g of 0 on one side (strains from a snapshot at the same g) gives no scale: the
+// displacements and strains are left out, with the reason, and the stresses still compare.
+TEST(CompareRun, ZeroGravityChangeLeavesDisplacementsOut) {
+  const std::string dir = temp_dir("pilelab_compare_zero_change");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 1.0, 0.0);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto& same = c["models"]["same"];
+  EXPECT_TRUE(same.contains("displacement_comparison_skipped"));
+  EXPECT_FALSE(same.contains("relative_l2_displacement"));
+  EXPECT_FALSE(same.contains("relative_l2_strain_yy"));
+  EXPECT_NEAR(same["relative_l2_stress_yy"].get<double>(), 0.0, 1e-14);
+  std::filesystem::remove_all(dir);
+}
+
 // Without the model's gravity change (or its height, for rho g) there is no scale to compare
 // by: an error naming the file and the attribute, not a silent factor of 1.
 TEST(CompareRun, ModelWithoutItsScaleIsAnError) {

@@ -202,6 +202,11 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     pile.path = path;
     const dem::DemFile file = dem::read_dem_file(path);
     pile.packing = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.snapshot)));
+    // Every size below (grain diameter, RVE radius, kernel width) is derived from the grains;
+    // without any they would be 0/0.
+    if (pile.packing->grains.empty())
+      throw InputError(path + ": snapshot '" + settings.snapshot +
+                       "' (coarse.snapshot) has no grains; coarse-graining needs a poured pile");
     if (file.has_snapshot(settings.strain_to)) {
       pile.later = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.strain_to)));
       if (piles_with_strains++ == 0)
@@ -235,6 +240,19 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     }
   }
   const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
+  // The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
+  // when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
+  // (pile size / w)^2 cells. Checked here, the first place d is known, before the RVE study.
+  auto check_kernel_width = [&](double w, const std::string& origin) {
+    if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
+    std::ostringstream m;
+    m << opt.scene_path << ": coarse.kernel_width_m" << origin << " is " << w
+      << " m, but the kernel averages need a width of at least the mean grain diameter of "
+      << settings.dem_files.front() << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
+      << " m, or 0 for the RVE radius";
+    throw InputError(m.str());
+  };
+  if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "");
   auto radius_for = [&](double count) { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); };
 
   // RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count.
@@ -263,6 +281,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : radius_for(grain_count_target);
   // Default kernel width: the RVE radius, so that both windows average over as many grains.
   const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
+  check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)");
   if (settings.method != CoarseSettings::Method::rve)
     for (Pile& p : piles) {
       p.kernel = std::make_unique<KernelAverager>(

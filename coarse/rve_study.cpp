@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "coarse/quantities.h"
 
@@ -23,6 +25,14 @@ constexpr std::size_t study_count = sizeof(study_quantities) / sizeof(study_quan
 }  // namespace
 
 RveStudy rve_size_study(const RveAverager& rve, const std::vector<Vec2>& points, const RveStudySettings& settings) {
+  // The radius loop ends on a grain count or a radius; a NaN or zero start reaches neither.
+  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (!positive(settings.first_radius_m) || !positive(settings.max_radius_m) || !(settings.growth > 1) ||
+      !std::isfinite(settings.growth))
+    throw std::invalid_argument("rve_size_study: first_radius_m = " + std::to_string(settings.first_radius_m) +
+                                ", max_radius_m = " + std::to_string(settings.max_radius_m) +
+                                " and growth = " + std::to_string(settings.growth) +
+                                " must be finite, the radii > 0 and the growth > 1");
   RveStudy study;
   std::ostringstream csv;
   csv << std::setprecision(10) << "point,x_m,y_m,radius_m,grain_count,quantity,value\n";

@@ -29,6 +29,8 @@ struct RveStudy {
   double chosen_grain_count = 0.0;
 };
 
+/// Throws std::invalid_argument unless first_radius_m and max_radius_m are finite and > 0 and
+/// growth is finite and > 1 (otherwise the radius loop would never end).
 RveStudy rve_size_study(const RveAverager& rve, const std::vector<Vec2>& points, const RveStudySettings& settings);
 
 }  // namespace pilelab::coarse

@@ -196,6 +196,68 @@ void write_fit_samples(const std::string& path, const std::vector<FitSample>& sa
   write_text_atomically(path, out.str());
 }
 
+const char* const change_fields[] = {"displacement_x", "displacement_y", "strain_xx", "strain_yy", "strain_xy"};
+
+// What a model's fields are multiplied by to be put on the DEM's scale.
+struct Scales {
+  double stress = 1.0;  ///< (rho g)_DEM / (rho g)_model
+  double change = 1.0;  ///< (rho g Delta)_DEM / (rho g Delta)_model, Delta = the relative change of g
+  bool has_change = false;
+  std::string skipped;  ///< why displacement and strain are not compared (a change of 0), or empty
+};
+
+// Both sources are sampled at the same points. A gravity stress scales with rho g, so model
+// stresses are multiplied by the DEM's rho g over the model's; the displacement and strain of
+// a change Delta of g in a linear model scale with rho g Delta, so they are multiplied by the
+// DEM's rho g Delta over the model's. A model compares by the shape of its fields, whatever
+// density and gravity change it was solved with (its modulus is what it is).
+Scales scale_to_dem(PointFields& model, const std::string& name, const std::string& fields_path,
+                    const std::string& models_path, const PointFields& dem) {
+  const H5File fields = H5File::open_read(fields_path), models = H5File::open_read(models_path);
+  const double dem_rho_g = fields.attribute_double("/", "rho_bulk_kg_per_m2") * fields.attribute_double("/", "gravity_m_per_s2");
+  const double model_rho_g = models.attribute_double("/", "rho_g_h_N_per_m") / models.attribute_double("/", "height_m");
+  if (!(dem_rho_g > 0) || !(model_rho_g > 0) || !std::isfinite(dem_rho_g) || !std::isfinite(model_rho_g))
+    throw InputError(fields_path + ", " + models_path + ": rho g is " + std::to_string(dem_rho_g) + " and " +
+                     std::to_string(model_rho_g) + " N/m^3; expected both finite and > 0 (root attributes "
+                     "rho_bulk_kg_per_m2 * gravity_m_per_s2, and rho_g_h_N_per_m / height_m)");
+  Scales k;
+  k.stress = dem_rho_g / model_rho_g;
+  for (const char* c : {"stress_xx", "stress_yy", "stress_xy"})
+    if (model.has(c))
+      for (double& v : model.values[c]) v *= k.stress;
+  // Compared only where the DEM has data: without a later snapshot its displacement and
+  // strain fields exist but are empty, and its gravity change is 0.
+  bool compared = false;
+  for (const char* c : change_fields)
+    if (model.has(c) && dem.has(c))
+      for (char ok : dem.valid.at(c)) compared = compared || ok;
+  if (!compared) return k;
+  double dem_change = 0, model_change = 0;
+  try {
+    dem_change = fields.attribute_double("/", "gravity_change");
+    model_change = models.attribute_double("/" + name, "gravity_change");
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (model '" + name + "' has displacements or strains, and comparing "
+                     "them with the DEM's needs the change of g each is for: rerun pilelab solve and coarse)");
+  }
+  if (!std::isfinite(dem_change) || !std::isfinite(model_change))
+    throw InputError(fields_path + ", " + models_path + ": gravity_change is " + std::to_string(dem_change) +
+                     " (DEM) and " + std::to_string(model_change) + " (model '" + name + "'); expected finite numbers");
+  if (dem_change == 0 || model_change == 0) {
+    // No common scale (e.g. DEM strains from a snapshot at the same g): not compared, and said so.
+    k.skipped = "gravity_change is " + std::to_string(dem_change) + " (DEM) and " + std::to_string(model_change) +
+                " (model): no rho g Delta to scale the displacements and strains by";
+    for (const char* c : change_fields) model.values.erase(c), model.valid.erase(c);
+    return k;
+  }
+  k.change = dem_rho_g * dem_change / (model_rho_g * model_change);
+  k.has_change = true;
+  for (const char* c : change_fields)
+    if (model.has(c))
+      for (double& v : model.values[c]) v *= k.change;
+  return k;
+}
+
 // Relative L2 differences of the elastic displacement (both components together) and of the
 // strain components, model against DEM, on the DEM's mesh.
 nlohmann::json displacement_and_strain_differences(const Triangulation& mesh, const PointFields& model,
@@ -226,11 +288,15 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
   const PointFields dem = read_dem_fields(fields_path, &mesh, &on_nodes);
   if (!on_nodes)
     throw InputError(fields_path + ": the comparison needs the fields at the mesh nodes (coarse.location = \"nodes\")");
-  const PointFields raw = read_model_fields(models_path, name);
+  PointFields raw = read_model_fields(models_path, name);
+  const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
   double height = 0;
   for (const Vec2& p : mesh.nodes) height = std::max(height, p.y());
   const PointFields model = reindex(raw, match_points(raw.points, dem.points, 1e-9 * height), dem.points.size());
-  return displacement_and_strain_differences(mesh, model, dem);
+  nlohmann::json out = displacement_and_strain_differences(mesh, model, dem);
+  if (k.has_change) out["displacement_scale_dem_over_model"] = k.change;
+  if (!k.skipped.empty()) out["displacement_comparison_skipped"] = k.skipped;
+  return out;
 }
 
 nlohmann::json run_fit(const FitOptions& opt) {
@@ -277,10 +343,13 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   if (spacing <= 0) spacing = fields_file.attribute_double("/", "rve_radius_m");
   if (!(spacing > 0)) spacing = height / 20;
   const nlohmann::json report = read_report(in_dir(opt.out_dir, "report.json"));
-  if (repose_deg <= 0 && report.contains("dem")) {
-    const auto& d = report["dem"];
-    if (d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number())
-      repose_deg = 0.5 * (d["repose_angle_left_deg"].get<double>() + d["repose_angle_right_deg"].get<double>());
+  // The DEM's measured angles, when its report has both (a pile too flat to fit a flank
+  // writes null; an older or hand-made report may lack the keys): otherwise no FPA angle.
+  const nlohmann::json dem_report = report.is_object() ? report.value("dem", nlohmann::json::object()) : nlohmann::json();
+  if (repose_deg <= 0 && dem_report.is_object()) {
+    const nlohmann::json left = dem_report.value("repose_angle_left_deg", nlohmann::json());
+    const nlohmann::json right = dem_report.value("repose_angle_right_deg", nlohmann::json());
+    if (left.is_number() && right.is_number()) repose_deg = 0.5 * (left.get<double>() + right.get<double>());
   }
   // The axis: through the apex, the highest node.
   double apex_x = 0, top = -INFINITY;
@@ -303,26 +372,15 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   nlohmann::json models = nlohmann::json::object();
   section["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
-    // Both sources are sampled at the same points, where a gravity stress scales with rho g:
-    // model stresses are rescaled by the DEM's rho g over the model's, so that a model loaded
-    // with another density compares by the shape of its field.
-    const double dem_scale = fields_file.attribute_double("/", "rho_bulk_kg_per_m2") *
-                             fields_file.attribute_double("/", "gravity_m_per_s2");
-    double model_scale = dem_scale;
-    try {
-      const H5File m = H5File::open_read(models_path);
-      model_scale = m.attribute_double("/", "rho_g_h_N_per_m") / m.attribute_double("/", "height_m");
-    } catch (const InputError&) {
-    }
-    section["stress_scale_dem_over_model"] = dem_scale / model_scale;
     for (const std::string& name : model_names(models_path)) {
       PointFields raw = read_model_fields(models_path, name);
-      for (const char* c : {"stress_xx", "stress_yy", "stress_xy"})
-        if (raw.has(c))
-          for (double& v : raw.values[c]) v *= dem_scale / model_scale;
+      const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
+      section["stress_scale_dem_over_model"] = k.stress;
       const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
       const PointFields model = reindex(raw, index, dem.points.size());
-      nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int k) { return k >= 0; })}};
+      nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; })}};
+      if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
+      if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
         if (!model.has(c) || !dem.has(c)) continue;
         const L2Difference all = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c));

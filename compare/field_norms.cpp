@@ -49,7 +49,8 @@ double area_mean(const Triangulation& mesh, const std::vector<double>& f, const 
     integral += a * (f[t[0]] + f[t[1]] + f[t[2]]) / 3.0;
     area += a;
   }
-  return area > 0 ? integral / area : 0.0;
+  // No triangle with data: no mean (NaN, written as null), as for l2_difference.
+  return area > 0 ? integral / area : NAN;
 }
 
 double axis_angle_deg(double a, double b) {

@@ -24,7 +24,8 @@ struct L2Difference {
 L2Difference l2_difference(const Triangulation& mesh, const std::vector<double>& a, const std::vector<char>& a_ok,
                            const std::vector<double>& b, const std::vector<char>& b_ok, const Region& region = {});
 
-/// Area-weighted mean of a nodal field over the triangles where it has data.
+/// Area-weighted mean of a nodal field over the triangles (in region) where it has data; NaN
+/// (written to JSON as null) if there is none.
 double area_mean(const Triangulation& mesh, const std::vector<double>& f, const std::vector<char>& ok,
                  const Region& region = {});
 

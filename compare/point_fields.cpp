@@ -33,7 +33,8 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   out.source = path;
   std::vector<std::uint64_t> dims;
   const auto xy = f.read_doubles("/fields/points", &dims);
-  if (dims.size() != 2 || dims[1] != 2) throw InputError(path + ": /fields/points must have shape (k, 2)");
+  if (dims.size() != 2 || dims[1] != 2 || xy.size() != 2 * dims[0])
+    throw InputError(path + ": /fields/points must have shape (k, 2)");
   for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
   const std::vector<std::string> names = f.list("/fields");
   auto is_field = [&](const std::string& n) { return std::find(names.begin(), names.end(), n) != names.end(); };
@@ -53,16 +54,37 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
     for (std::size_t i = 0; i < count.size(); ++i) ok[i] = count[i] > 0 && std::isfinite(values[i]);
     out.set(name, std::move(values), std::move(ok));
   }
+  const std::string location = f.attribute_string("/fields", "location");
+  if (location != "nodes" && location != "cells")
+    throw InputError(path + ": /fields attribute location is \"" + location + "\"; expected \"nodes\" or \"cells\"");
   if (mesh) {
+    // Integrals index the fields by node and the nodes by triangle: shapes and indices are
+    // checked here, once, so that a damaged file is an error and not a read past an array.
     const auto nodes = f.read_doubles("/mesh/nodes", &dims);
+    if (dims.size() != 2 || dims[1] != 2 || nodes.size() != 2 * dims[0])
+      throw InputError(path + ": /mesh/nodes must have shape (n, 2)");
     mesh->nodes.clear();
     for (std::size_t i = 0; i < dims[0]; ++i) mesh->nodes.emplace_back(nodes[2 * i], nodes[2 * i + 1]);
     const auto tri = f.read_ints("/mesh/triangles", &dims);
+    if (dims.size() != 2 || dims[1] != 3 || tri.size() != 3 * dims[0])
+      throw InputError(path + ": /mesh/triangles must have shape (t, 3)");
+    const auto n = static_cast<std::int64_t>(mesh->nodes.size());
     mesh->triangles.clear();
-    for (std::size_t t = 0; t < dims[0]; ++t)
+    for (std::size_t t = 0; t < dims[0]; ++t) {
+      for (int k = 0; k < 3; ++k)
+        if (tri[3 * t + k] < 0 || tri[3 * t + k] >= n)
+          throw InputError(path + ": /mesh/triangles row " + std::to_string(t) + " has node index " +
+                           std::to_string(tri[3 * t + k]) + "; expected 0 .. " + std::to_string(n - 1) +
+                           " (/mesh/nodes has " + std::to_string(n) + " rows)");
       mesh->triangles.push_back({static_cast<int>(tri[3 * t]), static_cast<int>(tri[3 * t + 1]), static_cast<int>(tri[3 * t + 2])});
+    }
+    const std::size_t expected = location == "nodes" ? mesh->nodes.size() : mesh->triangles.size();
+    if (out.points.size() != expected)
+      throw InputError(path + ": /fields/points has " + std::to_string(out.points.size()) + " rows; with location = \"" +
+                       location + "\" expected one per " + (location == "nodes" ? "row of /mesh/nodes (" : "row of /mesh/triangles (") +
+                       std::to_string(expected) + ")");
   }
-  if (on_nodes) *on_nodes = f.attribute_string("/fields", "location") == "nodes";
+  if (on_nodes) *on_nodes = location == "nodes";
   return out;
 }
 

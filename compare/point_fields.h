@@ -33,7 +33,9 @@ struct Triangulation {
 };
 
 /// fields.h5 of coarse/: every /fields/Q with its /fields/Q_count as validity, and the mesh.
-/// InputError naming the file if it is missing, not a pilelab-fields file, or malformed.
+/// InputError naming the file and the dataset if it is missing, not a pilelab-fields file, or
+/// malformed: with a mesh, /mesh/nodes (n, 2), /mesh/triangles (t, 3) with indices in [0, n),
+/// and one point per node (location "nodes") or per triangle ("cells").
 PointFields read_dem_fields(const std::string& path, Triangulation* mesh = nullptr, bool* on_nodes = nullptr);
 
 /// models.h5 of continuum/: the group of one model (its /MODEL/points and /MODEL/Q).

@@ -161,6 +161,7 @@ void write_models_h5(const std::string& path, const std::vector<Point<2>>& point
       f.write("/" + m.model + "/points", xy, {points.size(), 2}, "m");
       for (std::size_t q = 0; q < m.names.size(); ++q)
         f.write("/" + m.model + "/" + m.names[q], m.values[q], {points.size()}, m.units[q]);
+      for (const auto& [key, value] : m.attributes) f.set_attribute("/" + m.model, key, value);
     }
     f.close();
   });

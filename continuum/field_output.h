@@ -3,6 +3,7 @@
 // each written atomically) and horizontal profiles sampled at points and gathered on rank 0,
 // at the points coarse/ uses, for OUT/profiles.csv (common/profiles_csv.h).
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,10 +46,12 @@ struct ModelFields {
   std::string model;                           ///< group name: "elastic" or "fpa"
   std::vector<std::string> names, units;       ///< one per quantity
   std::vector<std::vector<double>> values;     ///< [quantity][point]
+  std::map<std::string, double> attributes;    ///< of the group, e.g. elastic: gravity_change
 };
 
 /// Writes OUT/models.h5 atomically: root attributes format = "pilelab-models", format_version = 1,
-/// and per model a group with /MODEL/points (k, 2) and one dataset per quantity (attribute unit).
+/// and per model a group with /MODEL/points (k, 2), one dataset per quantity (attribute unit)
+/// and the model's attributes.
 void write_models_h5(const std::string& path, const std::vector<dealii::Point<2>>& points,
                      const std::vector<ModelFields>& models, double rho_g_h, double height_m);
 

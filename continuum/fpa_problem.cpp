@@ -150,21 +150,27 @@ void FpaProblem::compute_base_force() {
   const QGaussSimplex<1> face_quadrature(fe_.degree + 1);
   FEFaceValues<2> fe_face(simplex_mapping(), fe_, face_quadrature, update_values | update_JxW_values);
   const QGaussSimplex<2> quadrature(fe_.degree + 1);
-  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature, update_gradients | update_JxW_values);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature, update_values | update_gradients | update_JxW_values);
   std::vector<Vector<double>> values(face_quadrature.size(), Vector<double>(2));
+  std::vector<Vector<double>> cell_values(quadrature.size(), Vector<double>(2));
   std::vector<std::vector<Tensor<1, 2>>> grads(quadrature.size(), std::vector<Tensor<1, 2>>(2));
   const double rho_g = density_ * gravity_;
-  double fy = 0, fx = 0, area = 0, J = 0;
+  double fy = 0, fx = 0, area = 0, J = 0, minor_area = 0;
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
     area += cell->measure();
     const double k = closure_coefficient(*cell);
     fe_values.reinit(cell);
     fe_values.get_function_gradients(solution_, grads);
+    fe_values.get_function_values(solution_, cell_values);
     for (unsigned q = 0; q < quadrature.size(); ++q) {
       const double r1 = grads[q][0][0] + grads[q][1][1];
       const double r2 = grads[q][1][0] + grads[q][0][1] - k * grads[q][1][1] - rho_g;
       J += (r1 * r1 + r2 * r2) * fe_values.JxW(q);
+      // The fixed direction is the major axis where p_xy has the sign of -side (p_xy <= 0 right
+      // of the apex); with the other sign the closure holds with the axes swapped.
+      const Stress2 p = stress_from(cell_values[q][0], cell_values[q][1], k);
+      if ((k > 0 ? p.xy : -p.xy) > 0) minor_area += fe_values.JxW(q);
     }
     for (const auto f : cell->face_indices()) {
       if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
@@ -181,6 +187,7 @@ void FpaProblem::compute_base_force() {
   result_.base_shear_force = Utilities::MPI::sum(fx, comm_);
   result_.weight = rho_g * Utilities::MPI::sum(area, comm_);
   result_.residual_norm = std::sqrt(Utilities::MPI::sum(J, comm_));
+  result_.minor_axis_fixed_area_fraction = Utilities::MPI::sum(minor_area, comm_) / Utilities::MPI::sum(area, comm_);
 }
 
 bool FpaProblem::stress_at(const Point<2>& p, Stress2& stress) const {

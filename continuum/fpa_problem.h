@@ -48,6 +48,11 @@ struct FpaResult {
   double base_shear_force = 0;    ///< int_base p_xy dx
   double weight = 0;              ///< rho g |Omega|
   double residual_norm = 0;       ///< J(s_h)^(1/2): how far the discrete stress is from equilibrium
+  /// Fraction of the area (at quadrature points) where the closure's fixed direction is the
+  /// MINOR principal axis: the linear closure fixes the axes, not which is major, and where
+  /// p_xy has the other side's sign the most compressive axis is perpendicular to the intended
+  /// one (near the axis on the shallower side of an asymmetric pile; docs/CONTINUUM.md).
+  double minor_axis_fixed_area_fraction = 0;
 };
 
 class FpaProblem {

@@ -163,6 +163,8 @@ nlohmann::json run_solve(const SolveOptions& o) {
     j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
     j["poisson_ratio"] = e.poisson_ratio;
     j["gravity_change"] = e.gravity_change;
+    // Its displacement and strain are those of this change of g: compare scales them to the DEM's.
+    outputs.fields.back().attributes["gravity_change"] = e.gravity_change;
   }
   if (s.fpa) {
     const FpaSettings& f = s.fpa_model;
@@ -173,6 +175,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
     j["right_repose_angle_deg"] = f.right_repose_angle_deg;
     j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
     j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
+    j["minor_axis_fixed_area_fraction"] = problem.result().minor_axis_fixed_area_fraction;
     j["equilibrium_residual_over_weight"] =
         problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
   }

@@ -151,18 +151,38 @@ double outline_area(const Outline& o) {
   return std::abs(twice) / 2;
 }
 
-// Refuses meshes that would take more than a few minutes to make (a typo in the size).
+// Refuses meshes that would take more than a few minutes to make (a typo in a size).
 void check_element_count(double area, const MeshSpec& spec) {
-  const double h = std::min(spec.element_size_m,
-                            spec.axis_element_size_m > 0 ? spec.axis_element_size_m : spec.element_size_m);
-  const double estimate = area / (0.433 * spec.element_size_m * spec.element_size_m);
-  if (estimate > 4e6 || h <= 0)
-    throw InputError("mesh.element_size_m = " + std::to_string(spec.element_size_m) +
-                     " m gives about " + std::to_string(static_cast<long>(estimate)) +
-                     " triangles; expected at most 4e6 (raise the element size)");
+  const double estimate = estimated_triangle_count(area, spec);
+  if (estimate > 4e6) {
+    std::string sizes = "mesh.element_size_m = " + std::to_string(spec.element_size_m) + " m";
+    if (spec.kind != MeshSpec::Kind::block && spec.axis_element_size_m > 0 &&
+        spec.axis_element_size_m < spec.element_size_m)
+      sizes += " and mesh.axis_element_size_m = " + std::to_string(spec.axis_element_size_m) + " m";
+    throw InputError(sizes + " give about " + std::to_string(static_cast<long>(estimate)) +
+                     " triangles; expected at most 4e6 (raise the element sizes)");
+  }
 }
 
 }  // namespace
+
+double estimated_triangle_count(double area, const MeshSpec& spec) {
+  // An equilateral triangle of edge h has area 0.433 h^2.
+  const double s = spec.element_size_m;
+  const double a = spec.kind == MeshSpec::Kind::block || spec.axis_element_size_m <= 0
+                       ? s
+                       : std::min(spec.axis_element_size_m, s);
+  if (!(a > 0)) return INFINITY;
+  // gmsh grades the size from a (on the axis, or at the apex) up to s. Along an embedded axis
+  // the count is about the uniform count plus a strip that grows as s / a: (2 s / a - 1) times
+  // the uniform count. Around the apex alone the graded disc adds a logarithm: about
+  // 1 + 1.5 ln(s / a) times. Both fitted to gmsh 4 (a 30/25 degree wedge, s / a from 1 to 40:
+  // within 20 %).
+  const double uniform = area / (0.433 * s * s);
+  const bool axis_line = spec.kind != MeshSpec::Kind::block && spec.embed_axis;
+  if (axis_line) return uniform * (2 * s / a - 1);
+  return uniform * (1 + 1.5 * std::log(s / a));
+}
 
 MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
   MeshSpec spec;

@@ -62,6 +62,11 @@ MeshSpec read_mesh_scene(SceneReader& reader, const std::string& scene_dir);
 /// The outline of an ideal wedge (surface points left foot, apex, right foot).
 Outline wedge_outline(const Wedge& wedge);
 
+/// About how many triangles gmsh makes of a region of this area with these sizes (the smaller
+/// axis size counts, since gmsh grades the size linearly away from the axis). write_mesh
+/// refuses a spec whose estimate exceeds 4e6.
+double estimated_triangle_count(double area, const MeshSpec& spec);
+
 /// Meshes spec and writes msh_path atomically. Throws InputError on degenerate geometry.
 void write_mesh(const MeshSpec& spec, const std::string& msh_path);
 

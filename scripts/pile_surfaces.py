@@ -32,6 +32,11 @@ def surface(positions, bin_width):
     return centres[filled], top[filled]
 
 
+def angle_text(angle, width=0):
+    """An angle with one decimal, or n/a when the run could not fit that flank (null in report.json)."""
+    return f"{'n/a' if angle is None else f'{angle:.1f}':>{width}s}"
+
+
 def main(figure, runs):
     fig, ax = plt.subplots(figsize=(10, 3.6))
     flanks, highest = [], 0.0
@@ -52,8 +57,8 @@ def main(figure, runs):
         xs, ys = surface(positions, 2.0 * mean_diameter)
         xs = xs - report.get("apex_x_m", xs[np.argmax(ys)])
         highest = max(highest, ys.max())
-        ax.plot(xs, ys, lw=1, label=f"seed {seed}, {integrator} {dt:.3g} s: {left:.1f} / {right:.1f} deg")
-        print(f"{out:40s} {seed:6d} {integrator:>10s} {dt:9.3g} {report['height_m']:10.3f} {left:6.1f} {right:6.1f}")
+        ax.plot(xs, ys, lw=1, label=f"seed {seed}, {integrator} {dt:.3g} s: {angle_text(left)} / {angle_text(right)} deg")
+        print(f"{out:40s} {seed:6d} {integrator:>10s} {dt:9.3g} {report['height_m']:10.3f} {angle_text(left, 6)} {angle_text(right, 6)}")
     if flanks:
         mean, spread = np.mean(flanks), np.std(flanks, ddof=1) if len(flanks) > 1 else np.nan
         print(f"{len(flanks)} flanks: mean {mean:.1f} deg, standard deviation {spread:.1f}, "

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <sstream>
 
@@ -13,6 +14,8 @@
 #include "common/report.h"
 #include "dem/dem_file.h"
 #include "dem/pile_run.h"
+#include "dem/snapshot.h"
+#include "dem/world.h"
 #include "mesh/mesh_run.h"
 #include "mesh/pile_mesh.h"
 
@@ -181,6 +184,36 @@ TEST_F(CoarseRun, EnsembleMeanAndStandardError) {
   }
 }
 
+// The kernel's 5-point branch quadrature needs w >= the mean grain diameter d: a smaller width
+// is refused with the key, the scene and the allowed range, and d = 2 sqrt(mean grain area / pi)
+// itself is accepted.
+TEST_F(CoarseRun, KernelNarrowerThanAGrainIsRefused) {
+  const pilelab::dem::DemFile file = pilelab::dem::read_dem_file(out_ + "/dem.h5");
+  const pilelab::dem::Snapshot s = file.snapshot("settled");
+  double area = 0;
+  for (auto b : s.body) area += file.shapes[b].area / s.body.size();
+  const double d = 2 * std::sqrt(area / M_PI);
+  auto run = [&](const std::string& name, double w) {
+    std::ofstream(out_ + "/" + name + ".toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [\"dem.h5\"]\n"
+                                                  "method = \"lucy\"\nrve_radius_m = 0.01\nprofile_heights = [0.0]\n"
+                                                  "kernel_width_m = " << std::setprecision(17) << w << "\n";
+    return pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name});
+  };
+  try {
+    run("narrow", 0.5 * d);
+    FAIL() << "no error for a kernel width of half a grain";
+  } catch (const pilelab::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("narrow.toml"), std::string::npos) << m;
+    EXPECT_NE(m.find("coarse.kernel_width_m"), std::string::npos) << m;
+    EXPECT_NE(m.find("mean grain diameter"), std::string::npos) << m;
+    std::ostringstream range;
+    range << ">= " << d;
+    EXPECT_NE(m.find(range.str()), std::string::npos) << m;
+  }
+  EXPECT_NO_THROW(run("wide", 1.000001 * d));
+}
+
 TEST(CoarseErrors, MissingMeshIsNamed) {
   const auto dir = std::filesystem::temp_directory_path() / ("pilelab_coarse_err_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -190,6 +223,34 @@ TEST(CoarseErrors, MissingMeshIsNamed) {
     FAIL();
   } catch (const pilelab::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nowhere.msh"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// A snapshot without grains (a run stopped before the pour) has no grain size to derive the
+// RVE from: an error naming the file and the snapshot, not a 0/0 that hangs the RVE study.
+TEST(CoarseErrors, SnapshotWithoutGrainsIsNamed) {
+  const auto dir = std::filesystem::temp_directory_path() / ("pilelab_coarse_empty_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  pilelab::dem::World world{pilelab::dem::WorldSettings{}};
+  pilelab::dem::Vec2 c;
+  world.add_wall(pilelab::dem::make_polygon({{-0.2, -0.02}, {0.2, -0.02}, {0.2, 0.0}, {-0.2, 0.0}}, &c), c, 0.0);
+  world.add_grain(pilelab::dem::make_disc(0.002), 2650.0);  // never activated: not in the snapshot
+  pilelab::dem::write_dem_file((dir / "empty.h5").string(), "", world, {pilelab::dem::take_snapshot(world, "settled")},
+                               nlohmann::json::object());
+  pilelab::mesh::MeshSpec spec;
+  spec.wedge = {0.02, 30.0, 30.0, 0.0};
+  spec.element_size_m = 0.004;
+  pilelab::mesh::write_mesh(spec, (dir / "pile.msh").string());
+  std::ofstream(dir / "s.toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [\"empty.h5\"]\n";
+  try {
+    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string()});
+    FAIL() << "no error for a snapshot without grains";
+  } catch (const pilelab::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("empty.h5"), std::string::npos) << m;
+    EXPECT_NE(m.find("'settled'"), std::string::npos) << m;
+    EXPECT_NE(m.find("no grains"), std::string::npos) << m;
   }
   std::filesystem::remove_all(dir);
 }

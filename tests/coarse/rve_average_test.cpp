@@ -1,10 +1,13 @@
 // RVE averages (paper eq. 12-19) on synthetic packings with exactly known answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "coarse/rve_average.h"
+#include "coarse/rve_study.h"
 #include "dem/shape.h"
 
 using namespace pilelab::coarse;
@@ -48,6 +51,40 @@ Synthetic random_packing(unsigned seed, int n = 400, double box = 0.2) {
       s.packing.contacts.push_back(c);
     }
   return s;
+}
+
+// Exact area of the disc (c, R) covered by squares of side 2 h centred on the integer lattice,
+// computed independently of coarse/ by slicing: with x = cx + R sin t, the material length of
+// the vertical chord at x is L(cy + R cos t) - L(cy - R cos t), where L(y) is the material
+// length of the y-lattice below y, piecewise linear: L(y) = A + b y with b = 1 on a square and 0
+// in a gap. Between the angles where x or a chord end crosses a square's edge, A and b are
+// constant, so the integral over dx = R cos t dt is C1 R int cos + C2 R^2 int cos^2, in closed form.
+double lattice_area_in_disc(const Vec2& c, double R, double h) {
+  auto in_square = [&](double y) { return std::abs(y - std::round(y)) <= h; };
+  auto L = [&](double y) {
+    const double n = std::floor(y + 0.5);
+    return 2 * h * n + std::clamp(y - n, -h, h);
+  };
+  std::vector<double> cuts = {-M_PI / 2, M_PI / 2};
+  for (long i = std::lround(std::floor(c.x() - R)) - 1; i <= std::lround(std::ceil(c.x() + R)) + 1; ++i)
+    for (double e : {i - h, i + h})
+      if (std::abs(e - c.x()) < R) cuts.push_back(std::asin((e - c.x()) / R));
+  for (long j = std::lround(std::floor(c.y() - R)) - 1; j <= std::lround(std::ceil(c.y() + R)) + 1; ++j)
+    for (double e : {j - h, j + h})
+      for (double cos_t : {(e - c.y()) / R, (c.y() - e) / R})  // upper and lower chord ends
+        if (cos_t > 0 && cos_t < 1) cuts.insert(cuts.end(), {std::acos(cos_t), -std::acos(cos_t)});
+  std::sort(cuts.begin(), cuts.end());
+  double area = 0;
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+    const double a = cuts[k], b = cuts[k + 1], m = 0.5 * (a + b);
+    if (!(b > a) || !in_square(c.x() + R * std::sin(m))) continue;
+    const double hi = c.y() + R * std::cos(m), lo = c.y() - R * std::cos(m);
+    const double b_hi = in_square(hi), b_lo = in_square(lo);
+    const double A_hi = L(hi) - b_hi * hi, A_lo = L(lo) - b_lo * lo;
+    const double c1 = A_hi - A_lo + (b_hi - b_lo) * c.y(), c2 = b_hi + b_lo;
+    area += c1 * R * (std::sin(b) - std::sin(a)) + c2 * R * R * (0.5 * (b - a) + 0.25 * (std::sin(2 * b) - std::sin(2 * a)));
+  }
+  return area;
 }
 
 Tensor rotation(double angle) {
@@ -141,11 +178,19 @@ TEST(RveAverage, SquareLatticeOfSquaresHasKnownDensityAndFabric) {
       if (j + 1 < n) p.contacts.push_back({k, k + n, p.grains[k].centre + Vec2(0, 0.5), {0, -1}});
     }
   RveAverager rve(p);
-  const RveSample x = rve.average({0.3, 20.2}, 8.0);
-  // Lattice points in a circle approximate its area; the outline-based fraction does not
-  // depend on that count: 0.64 up to the cut grains' error, which is zero by symmetry only
-  // approximately, so allow the annulus bound.
-  EXPECT_NEAR(x.volume_fraction, 0.64, 0.64 * 2 * 0.6 * 2 / 8.0);
+  const Vec2 centre(0.3, 20.2);
+  const RveSample x = rve.average(centre, 8.0);
+  // The outline-based fraction counts the cut grains' parts inside the disc exactly, so it
+  // equals the lattice's exact material area over the disc's, up to rounding (~1e-15 per term
+  // over a few hundred terms). Dropping the cut grains would lose about 0.64 * 2 pi R * 0.5.
+  ASSERT_NEAR(x.volume, M_PI * 64.0, 1e-12);
+  const double exact = lattice_area_in_disc(centre, 8.0, 0.4);
+  EXPECT_NEAR(x.volume_fraction, exact / x.volume, 1e-11);
+  // The slicing itself, on discs with known answers: inside one square, and a disc over many
+  // cells whose fraction tends to 0.64.
+  EXPECT_NEAR(lattice_area_in_disc({3.05, -2.0}, 0.3, 0.4), M_PI * 0.09, 1e-14);
+  EXPECT_NEAR(lattice_area_in_disc({0.5, 0.5}, 0.1, 0.4), 0.0, 1e-15);  // in a gap
+  EXPECT_NEAR(lattice_area_in_disc({0.3, 0.7}, 200.0, 0.4) / (M_PI * 4e4), 0.64, 2 * 2 * M_PI * 200 * 0.5 / (M_PI * 4e4));
   EXPECT_EQ(x.coordination, 4.0);
   const double per_area = x.grain_count * 0.64 / x.volume;
   EXPECT_NEAR(x.fabric(0, 0), 2 * per_area, 1e-12);
@@ -195,6 +240,29 @@ TEST(RveAverage, VolumeIsClippedToTheDomain) {
   RveAverager rve(s.packing, half_plane);
   EXPECT_NEAR(rve.average({0.0, 0.0}, 0.03).volume, M_PI * 0.03 * 0.03 / 2, 1e-15);
   EXPECT_NEAR(rve.average({0.0, 0.1}, 0.03).volume, M_PI * 0.03 * 0.03, 1e-15);
+}
+
+// The study grows the radius until a grain count or a radius is reached; a start radius of
+// NaN (0/0 from a pile without grains) or 0 reaches neither, so it is refused, not looped on.
+TEST(RveStudy, RefusesRadiiThatNeverGrow) {
+  Synthetic s = random_packing(6);
+  RveAverager rve(s.packing);
+  const std::vector<Vec2> points = {{0.0, 0.1}};
+  RveStudySettings ok;
+  ok.first_radius_m = 0.01;
+  ok.max_radius_m = 0.2;
+  EXPECT_GT(rve_size_study(rve, points, ok).chosen_grain_count, 0.0);
+  for (double r : {double(NAN), 0.0, -0.01, double(INFINITY)}) {
+    RveStudySettings bad = ok;
+    bad.first_radius_m = r;
+    EXPECT_THROW(rve_size_study(rve, points, bad), std::invalid_argument) << r;
+  }
+  RveStudySettings no_growth = ok;
+  no_growth.growth = 1.0;
+  EXPECT_THROW(rve_size_study(rve, points, no_growth), std::invalid_argument);
+  RveStudySettings nan_limit = ok;
+  nan_limit.max_radius_m = NAN;
+  EXPECT_THROW(rve_size_study(rve, points, nan_limit), std::invalid_argument);
 }
 
 TEST(TensorSummary, PrincipalValuesAndOrientation) {

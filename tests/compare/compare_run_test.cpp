@@ -8,7 +8,9 @@
 
 #include "common/hdf5_file.h"
 #include "common/report.h"
+#include "common/error.h"
 #include "compare/compare_run.h"
+#include "compare/point_fields.h"
 
 using namespace pilelab;
 
@@ -35,7 +37,7 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
   auto& f = s.fields;
   for (const char* q : {"strain_xx", "strain_yy", "strain_xy", "stress_change_xx", "stress_change_yy",
                         "stress_change_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure", "stress_xx",
-                        "stress_yy", "stress_xy", "stress_orientation_deg"})
+                        "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
     f[q].resize(k);
   for (std::size_t p = 0; p < k; ++p) {
     const double x = s.xy[2 * p], y = s.xy[2 * p + 1];
@@ -48,6 +50,7 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
     f["stress_yy"][p] = -1000 * (1 - y), f["stress_xx"][p] = -400 * (1 - y), f["stress_xy"][p] = 0.0;
     f["pressure"][p] = 700 * (1 - y);
     f["stress_orientation_deg"][p] = 90.0;
+    f["displacement_x"][p] = 1e-4 * (x + 0.5 * x * x), f["displacement_y"][p] = 2e-4 * (y - 0.25 * y * y);
   }
   return s;
 }
@@ -60,6 +63,7 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
   h.set_attribute("/", "height_m", 1.0);
   h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
   h.set_attribute("/", "gravity_m_per_s2", 9.81);
+  h.set_attribute("/", "gravity_change", -0.1);
   const std::uint64_t k = s.xy.size() / 2;
   h.write("/mesh/nodes", s.xy, {k, 2}, "m");
   h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
@@ -71,6 +75,30 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
     h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), count));
     for (std::size_t k = 0; k < piles.size(); ++k) h.write("/piles/" + std::to_string(k) + "/" + name, piles[k]->fields.at(name));
   }
+}
+
+// fields.h5 with one part damaged, as a truncated copy or a hand edit would leave it.
+enum class Damage { nodes_shape, triangle_index, negative_index, points_count };
+void write_damaged_fields(const std::string& path, const Synthetic& s, Damage damage) {
+  H5File h = H5File::create(path);
+  h.set_attribute("/", "format", std::string("pilelab-fields"));
+  const std::uint64_t k = s.xy.size() / 2;
+  if (damage == Damage::nodes_shape) {
+    std::vector<double> xyz(3 * k, 0.0);
+    h.write("/mesh/nodes", xyz, {k, 3}, "m");
+  } else {
+    h.write("/mesh/nodes", s.xy, {k, 2}, "m");
+  }
+  auto tri = s.triangles;
+  if (damage == Damage::triangle_index) tri[7] = static_cast<std::int64_t>(k);
+  if (damage == Damage::negative_index) tri[7] = -1;
+  h.write("/mesh/triangles", tri, {tri.size() / 3, 3});
+  const std::uint64_t points = damage == Damage::points_count ? k - 1 : k;
+  const std::vector<double> xy(s.xy.begin(), s.xy.begin() + 2 * points);
+  h.write("/fields/points", xy, {points, 2}, "m");
+  h.set_attribute("/fields", "location", std::string("nodes"));
+  h.write("/fields/stress_yy", std::vector<double>(points, 1.0));
+  h.write("/fields/stress_yy_count", std::vector<std::int64_t>(points, 1));
 }
 
 std::string temp_dir(const std::string& name) {
@@ -122,25 +150,153 @@ TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
   std::filesystem::remove_all(dir);
 }
 
+// models.h5 with the DEM's fields as one model, solved with rho g = rho_g_factor times the
+// DEM's and a gravity change change_factor times the DEM's: its stresses scaled by rho_g_factor,
+// its displacements and strains by rho_g_factor * change_factor (a linear model).
+void write_models(const std::string& path, const Synthetic& s, double rho_g_factor, double change_factor,
+                  bool with_change = true, bool with_height = true) {
+  H5File m = H5File::create(path);
+  m.set_attribute("/", "rho_g_h_N_per_m", 1000.0 * rho_g_factor);  // the DEM's rho g is 1000 N/m^3, h = 1 m
+  if (with_height) m.set_attribute("/", "height_m", 1.0);
+  m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
+  for (const char* q : {"stress_xx", "stress_yy", "stress_xy"}) {
+    std::vector<double> v = s.fields.at(q);
+    for (double& x : v) x *= rho_g_factor;
+    m.write(std::string("/same/") + q, v);
+  }
+  for (const char* q : {"strain_xx", "strain_yy", "strain_xy", "displacement_x", "displacement_y"}) {
+    std::vector<double> v = s.fields.at(q);
+    for (double& x : v) x *= rho_g_factor * change_factor;
+    m.write(std::string("/same/") + q, v);
+  }
+  if (with_change) m.set_attribute("/same", "gravity_change", -0.1 * change_factor);
+}
+
+// The same fields as the DEM, differing only by rounding once put on the DEM's scale.
+void expect_same_fields(const nlohmann::json& same, std::size_t points) {
+  EXPECT_EQ(same["matched_points"].get<std::size_t>(), points);
+  for (const char* q : {"relative_l2_stress_xx", "relative_l2_stress_yy", "relative_l2_strain_xx", "relative_l2_strain_yy",
+                        "relative_l2_strain_xy", "relative_l2_displacement", "relative_l2_lower_half_stress_yy"})
+    EXPECT_NEAR(same[q].get<double>(), 0.0, 1e-14) << q;
+  EXPECT_NEAR(same["principal_axis_angle_mean_deg"].get<double>(), 0.0, 1e-6);
+}
+
 TEST(CompareRun, IdenticalModelDiffersByZero) {
   const std::string dir = temp_dir("pilelab_compare_run");
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
-  {
-    H5File m = H5File::create(dir + "/models.h5");
-    m.set_attribute("/", "rho_g_h_N_per_m", 1000.0);
-    m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
-    for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "strain_xx", "strain_yy", "strain_xy"})
-      m.write(std::string("/same/") + q, s.fields.at(q));
-  }
+  write_models(dir + "/models.h5", s, 1.0, 1.0);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  expect_same_fields(c["models"]["same"], s.xy.size() / 2);
+  EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
+  EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
+  std::filesystem::remove_all(dir);
+}
+
+// A model solved with 2.5 times the DEM's rho g and 3 times its gravity change has 2.5 times
+// its stresses and 7.5 times its displacements and strains: rescaled by the DEM's rho g (and
+// rho g Delta) over the model's, the difference vanishes; unscaled it would be 150 % and 650 %.
+TEST(CompareRun, ModelWithAnotherDensityAndGravityChangeIsRescaled) {
+  const std::string dir = temp_dir("pilelab_compare_rescaled");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 2.5, 3.0);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  expect_same_fields(c["models"]["same"], s.xy.size() / 2);
+  EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1 / 2.5, 1e-15);
+  EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1 / 7.5, 1e-15);
+  // The closed loop's comparison scales the same way.
+  const auto d = compare::compare_displacements(dir + "/fields.h5", dir + "/models.h5", "same");
+  EXPECT_NEAR(d["relative_l2_displacement"].get<double>(), 0.0, 1e-14);
+  EXPECT_NEAR(d["relative_l2_strain_yy"].get<double>(), 0.0, 1e-14);
+  std::filesystem::remove_all(dir);
+}
+
+// A change of g of 0 on one side (strains from a snapshot at the same g) gives no scale: the
+// displacements and strains are left out, with the reason, and the stresses still compare.
+TEST(CompareRun, ZeroGravityChangeLeavesDisplacementsOut) {
+  const std::string dir = temp_dir("pilelab_compare_zero_change");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 1.0, 0.0);
   std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
   const auto c = compare::run_compare({dir + "/scene.toml", dir});
   const auto& same = c["models"]["same"];
-  EXPECT_EQ(same["matched_points"].get<int>(), static_cast<int>(s.xy.size() / 2));
-  for (const char* q : {"relative_l2_stress_xx", "relative_l2_stress_yy", "relative_l2_strain_xx", "relative_l2_strain_yy",
-                        "relative_l2_lower_half_stress_yy"})
-    EXPECT_EQ(same[q].get<double>(), 0.0) << q;
-  EXPECT_EQ(same["principal_axis_angle_mean_deg"].get<double>(), 0.0);
-  EXPECT_DOUBLE_EQ(c["stress_scale_dem_over_model"].get<double>(), 1.0);
+  EXPECT_TRUE(same.contains("displacement_comparison_skipped"));
+  EXPECT_FALSE(same.contains("relative_l2_displacement"));
+  EXPECT_FALSE(same.contains("relative_l2_strain_yy"));
+  EXPECT_NEAR(same["relative_l2_stress_yy"].get<double>(), 0.0, 1e-14);
+  std::filesystem::remove_all(dir);
+}
+
+// Without the model's gravity change (or its height, for rho g) there is no scale to compare
+// by: an error naming the file and the attribute, not a silent factor of 1.
+TEST(CompareRun, ModelWithoutItsScaleIsAnError) {
+  const std::string dir = temp_dir("pilelab_compare_unscaled");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const std::pair<bool, const char*> cases[] = {{true, "gravity_change"}, {false, "height_m"}};
+  for (const auto& [no_change, attribute] : cases) {
+    std::filesystem::remove(dir + "/models.h5");
+    write_models(dir + "/models.h5", s, 1.0, 1.0, !no_change, no_change);
+    try {
+      compare::run_compare({dir + "/scene.toml", dir});
+      ADD_FAILURE() << "no error without " << attribute;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("models.h5"), std::string::npos) << m;
+      EXPECT_NE(m.find(attribute), std::string::npos) << m;
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// The DEM's section of report.json may lack the repose angles (an older or hand-made report)
+// or hold null (a flank too short to fit): compare then has no FPA angle to set beside the
+// fit, and says so with repose_angle_deg = 0 instead of reading a missing key.
+TEST(CompareRun, ReportWithoutReposeAnglesGivesNoFpaAngle) {
+  const std::string dir = temp_dir("pilelab_compare_repose");
+  write_fields(dir + "/fields.h5", elastic_field(3e6, 1e6));
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  for (const char* dem : {R"({})", R"({"repose_angle_left_deg": 30.0})", R"({"repose_angle_left_deg": 30.0,
+                           "repose_angle_right_deg": null})", R"(5)"}) {
+    std::ofstream(dir + "/report.json") << "{\"dem\": " << dem << "}\n";
+    const auto c = compare::run_compare({dir + "/scene.toml", dir});
+    EXPECT_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 0.0) << dem;
+  }
+  // Both present: their mean, and psi = 45 - phi/2.
+  std::ofstream(dir + "/report.json") << R"({"dem": {"repose_angle_left_deg": 30.0, "repose_angle_right_deg": 34.0}})";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  EXPECT_DOUBLE_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 32.0);
+  EXPECT_DOUBLE_EQ(c["fpa_angle"]["psi_fpa_deg"].get<double>(), 29.0);
+  std::filesystem::remove_all(dir);
+}
+
+// A damaged fields.h5 is an InputError naming the file and the dataset, never a read past the
+// end of an array in the integrals.
+TEST(CompareRun, DamagedMeshInFieldsFileIsNamed) {
+  const std::string dir = temp_dir("pilelab_compare_damaged");
+  const Synthetic s = elastic_field(3e6, 1e6, 4);
+  const std::pair<Damage, const char*> cases[] = {{Damage::nodes_shape, "/mesh/nodes"},
+                                                  {Damage::triangle_index, "/mesh/triangles"},
+                                                  {Damage::negative_index, "/mesh/triangles"},
+                                                  {Damage::points_count, "/fields/points"}};
+  for (const auto& [damage, dataset] : cases) {
+    const std::string path = dir + "/damaged.h5";
+    std::filesystem::remove(path);
+    write_damaged_fields(path, s, damage);
+    compare::Triangulation mesh;
+    try {
+      compare::read_dem_fields(path, &mesh);
+      ADD_FAILURE() << "no error for " << dataset;
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(path), std::string::npos) << m;
+      EXPECT_NE(m.find(dataset), std::string::npos) << m;
+    }
+  }
   std::filesystem::remove_all(dir);
 }

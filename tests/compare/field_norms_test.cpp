@@ -1,6 +1,8 @@
 // Integrals of nodal fields are exact for linear fields; identical fields differ by zero.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "compare/field_norms.h"
 
 using namespace pilelab::compare;
@@ -45,6 +47,17 @@ TEST(FieldNorms, IdenticalFieldsDifferByZeroAndMissingDataIsLeftOut) {
   EXPECT_EQ(l2_difference(m, f, ok, f, ok).relative, 0.0);
   some[0] = 0;  // a corner node without data drops its triangles
   EXPECT_LT(l2_difference(m, f, some, f, ok).area, 1.0);
+}
+
+// No triangle with data (or none in the region): no mean, NaN (null in JSON), never 0, which
+// would read as perfectly aligned axes.
+TEST(FieldNorms, MeanWithoutDataIsNaN) {
+  const Triangulation m = square(4);
+  std::vector<double> f(m.nodes.size(), 7.0);
+  std::vector<char> none(m.nodes.size(), 0), ok(m.nodes.size(), 1);
+  EXPECT_TRUE(std::isnan(area_mean(m, f, none)));
+  EXPECT_TRUE(std::isnan(area_mean(m, f, ok, [](const Vec2& c) { return c.y() > 2.0; })));
+  EXPECT_NEAR(area_mean(m, f, ok), 7.0, 1e-14);
 }
 
 TEST(FieldNorms, AxisAngles) {

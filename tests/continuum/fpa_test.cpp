@@ -174,6 +174,49 @@ TEST(FpaWedge, AsymmetricExactOnMeshAlignedWithTheCharacteristics) {
     }
 }
 
+// The linear closure fixes the principal directions, not which of them is the major one. In the
+// asymmetric wedge the shallower side's inner field has p_XZ = a X + b Z with b < 0, so between
+// the axis and the line X = -(b / a) Z, p_xy has the steeper side's sign and the fixed direction
+// is the MINOR axis (the major one is perpendicular to it). On a fan mesh along the axis, both
+// rays and that line the solution is exact and the cells' quadrature points see the region
+// exactly: the reported area fraction is its area, -(b / a) / (cot phi_L + cot phi_R) (about 4 %
+// for 28 / 21 degrees), and the swapped axis is confirmed from the exact stress.
+TEST(FpaWedge, MinorAxisAtTheFixedDirectionNearTheAxisOfAnAsymmetricPile) {
+  const double left = 28, right = 21, rho_g = rho * g;
+  // -b/a from the exact inner field: p_xy is linear in X at the base, zero at X = c h.
+  const double y = 0, x1 = 0.01 * h, x2 = 0.05 * h;
+  const double q1 = fpa_wedge_stress(left, right, h, 0, rho_g, x1, y).xy, q2 = fpa_wedge_stress(left, right, h, 0, rho_g, x2, y).xy;
+  const double c = (x1 - q1 * (x2 - x1) / (q2 - q1)) / h;
+  const double ray_r = std::tan((45 - right / 2) * deg), ray_l = std::tan((45 - left / 2) * deg);
+  ASSERT_GT(c, 0.0);
+  ASSERT_LT(c, ray_r);  // inside the right inner region
+  // In the region (right of the apex, 0 < X < c Z) the major axis is perpendicular to the fixed
+  // one, at 90 + psi from the horizontal; outside it, the major axis is the fixed one.
+  const double psi = 45 - right / 2;
+  auto axis_offset = [&](double x, double yy) {
+    const Principal pr = principal_stress(fpa_wedge_stress(left, right, h, 0, rho_g, x, yy), 1e-9 * rho_g * h);
+    const double d = std::fmod(std::abs(pr.orientation_deg - (90 + psi)), 180.0);
+    return std::min(d, 180 - d);
+  };
+  EXPECT_NEAR(axis_offset(0.5 * c * h, 0.0), 90.0, 1e-9);
+  EXPECT_NEAR(axis_offset(0.5 * c * 0.5 * h, 0.5 * h), 90.0, 1e-9);
+  EXPECT_NEAR(axis_offset(0.5 * (c + ray_r) * h, 0.0), 0.0, 1e-9);
+  // The steeper side's fixed axis is its major axis throughout (p_xy >= 0 left of the apex).
+  for (double f : {0.05, 0.5, 0.95}) EXPECT_GE(fpa_wedge_stress(left, right, h, 0, rho_g, -f * ray_l * h, 0).xy, 0.0);
+
+  auto tria = fan_wedge(left, right, {-ray_l * h, 0.0, c * h, ray_r * h}, 3);
+  FpaProblem problem(*tria, settings(left, right, 1), rho, g, 0.0);
+  const FpaResult& r = problem.run();
+  const double exact = c / (1 / std::tan(left * deg) + 1 / std::tan(right * deg));
+  std::printf("28/21: fixed direction is the minor axis on %.4f of the area (exact %.4f, X/Z < %.4f)\n",
+              r.minor_axis_fixed_area_fraction, exact, c);
+  EXPECT_NEAR(r.minor_axis_fixed_area_fraction, exact, 1e-9);
+  // Equal angles: b = 0, no such region (up to round-off signs on the axis, which has no area).
+  auto sym = fan_wedge(28, 28, {-ray_l * h, 0.0, ray_l * h}, 3);
+  FpaProblem symmetric(*sym, settings(28, 28, 1), rho, g, 0.0);
+  EXPECT_LT(symmetric.run().minor_axis_fixed_area_fraction, 1e-9);
+}
+
 // An asymmetric pile (the paper's 28 and 21 degrees): the base carries the weight and no net
 // shear (the flanks are traction-free, so global equilibrium leaves the base alone to balance).
 TEST(FpaWedge, AsymmetricWedgeBalancesForces) {

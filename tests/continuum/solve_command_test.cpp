@@ -134,6 +134,9 @@ TEST(SolveCommand, OneAndTwoRanksGiveTheSameAnswer) {
     }
   }
 
+  // The gravity change the elastic displacements are for, which compare scales them by.
+  EXPECT_EQ(ma.attribute_double("/elastic", "gravity_change"), -0.1);
+
   const auto ja = nlohmann::json::parse(std::ifstream(one / "report.json"))["continuum"];
   const auto jb = nlohmann::json::parse(std::ifstream(two / "report.json"))["continuum"];
   EXPECT_EQ(jb["mpi_ranks"], 2);

@@ -118,6 +118,34 @@ TEST(PileMesh, AbsurdElementCountIsRefused) {
   EXPECT_THROW(write_mesh(spec, temp_path("huge.msh")), pilelab::InputError);
 }
 
+// A fine axis size grades the whole mesh around the axis: the estimate the guard uses follows
+// gmsh's count (within a factor 1.5 either way; an estimate blind to the axis size is off by
+// s / a), and an absurd axis size is refused even with a modest element size.
+TEST(PileMesh, AxisElementSizeCountsInTheElementEstimate) {
+  for (bool axis : {true, false})
+    for (double a : {0.02, 0.004, 0.001}) {
+      MeshSpec spec;
+      spec.wedge = {0.2, 30.0, 25.0, 0.0};
+      spec.element_size_m = 0.02;
+      spec.axis_element_size_m = a;
+      spec.embed_axis = axis;
+      write_mesh(spec, temp_path("graded.msh"));
+      const TriangleMesh m = read_triangle_mesh(temp_path("graded.msh"));
+      const double ratio = m.triangles.size() / estimated_triangle_count(mesh_area(m), spec);
+      EXPECT_GT(ratio, 1 / 1.5) << axis << " " << a;
+      EXPECT_LT(ratio, 1.5) << axis << " " << a;
+    }
+  MeshSpec spec;
+  spec.element_size_m = 0.02;
+  spec.axis_element_size_m = 1e-7;
+  try {
+    write_mesh(spec, temp_path("fine_axis.msh"));
+    FAIL() << "no error for a 0.1 micron axis size";
+  } catch (const pilelab::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mesh.axis_element_size_m"), std::string::npos) << e.what();
+  }
+}
+
 // The .geo templates in meshes/ give gmsh the same geometry and boundary tags as the API.
 TEST(PileMesh, GeoTemplatesMeshWithGmsh) {
   struct Case {

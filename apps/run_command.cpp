@@ -76,7 +76,7 @@ void make_absolute(toml::table& root, const char* table, const char* key, const 
 double report_number(const nlohmann::json& report, const std::string& section, const std::string& key) {
   const auto& s = report.contains(section) ? report[section] : nlohmann::json();
   if (!s.is_object() || !s.contains(key) || !s[key].is_number())
-    throw InputError("report.json: " + section + "." + key + ": expected a number from the " + section +
+    throw InputError("report.json (in the output directory): " + section + "." + key + ": expected a number from the " + section +
                      " stage, found " + (s.is_object() && s.contains(key) ? s[key].dump() : std::string("nothing")));
   return s[key].get<double>();
 }
@@ -97,7 +97,8 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
     c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
   if (report.contains("dem")) {
     const auto& d = report["dem"];
-    const bool measured = d["repose_angle_left_deg"].is_number() && d["repose_angle_right_deg"].is_number();
+    const bool measured = d.is_object() && d.value("repose_angle_left_deg", nlohmann::json()).is_number() &&
+                          d.value("repose_angle_right_deg", nlohmann::json()).is_number();
     if (!c["fpa"].as_table()) c.insert("fpa", toml::table{});
     toml::table& f = *c["fpa"].as_table();
     if (measured && !f.contains("repose_angle_deg") && !f.contains("left_repose_angle_deg")) {
@@ -119,7 +120,9 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
 // its displacement and strain against the DEM's. The solver runs as a child process (MPI can
 // be initialised once per process, and the solve stage may already have done so).
 void closed_loop(const std::string& out_dir, const nlohmann::json& report) {
-  if (!report.contains("fit") || !report["fit"]["models"].contains("isotropic") || !report.contains("coarse")) return;
+  if (!report.contains("coarse") || !report.contains("fit") || !report["fit"].is_object() ||
+      !report["fit"].value("models", nlohmann::json::object()).contains("isotropic"))
+    return;
   const auto& iso = report["fit"]["models"]["isotropic"];
   const auto constant = [&](const char* key) {  // null when the fit had no data
     return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;

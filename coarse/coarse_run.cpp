@@ -242,13 +242,15 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
   // The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
   // when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
-  // (pile size / w)^2 cells. Checked here, the first place d is known, before the RVE study.
+  // (pile size / w)^2 cells. Checked here, the first place d is known: an explicit width before
+  // the RVE study, the default (the RVE radius) once the study has chosen it.
   auto check_kernel_width = [&](double w, const std::string& origin) {
     if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
     std::ostringstream m;
     m << opt.scene_path << ": coarse.kernel_width_m" << origin << " is " << w
       << " m, but the kernel averages need a width of at least the mean grain diameter of "
-      << settings.dem_files.front() << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
+      << (settings.dem_files.size() > 1 ? "the piles in coarse.dem_files" : settings.dem_files.front())
+      << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
       << " m, or 0 for the RVE radius";
     throw InputError(m.str());
   };

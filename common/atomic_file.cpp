@@ -1,6 +1,8 @@
 #include "common/atomic_file.h"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -14,12 +16,14 @@ namespace pilelab {
 namespace {
 // Forces a file's (or a directory's) contents to the disk. Without it a crash after the
 // rename could leave the new name pointing at blocks that were never written.
-bool sync_to_disk(const std::string& path) {
+// Returns an empty string, or why it failed.
+std::string sync_to_disk(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) return false;
+  if (fd < 0) return std::string("cannot open it: ") + std::strerror(errno);
   const bool ok = ::fsync(fd) == 0;
+  const int error = errno;
   ::close(fd);
-  return ok;
+  return ok ? std::string() : std::string("fsync failed: ") + std::strerror(error);
 }
 }  // namespace
 
@@ -27,7 +31,8 @@ void write_atomically(const std::string& path, const std::function<void(const st
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
     write(tmp);
-    if (!sync_to_disk(tmp)) throw InputError("cannot write " + tmp + " to the disk (fsync failed)");
+    const std::string failed = sync_to_disk(tmp);
+    if (!failed.empty()) throw InputError("cannot write " + tmp + " to the disk: " + failed);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;

@@ -218,7 +218,7 @@ Scales scale_to_dem(PointFields& model, const std::string& name, const std::stri
   const double model_rho_g = models.attribute_double("/", "rho_g_h_N_per_m") / models.attribute_double("/", "height_m");
   if (!(dem_rho_g > 0) || !(model_rho_g > 0) || !std::isfinite(dem_rho_g) || !std::isfinite(model_rho_g))
     throw InputError(fields_path + ", " + models_path + ": rho g is " + std::to_string(dem_rho_g) + " and " +
-                     std::to_string(model_rho_g) + " N/m^3; expected both finite and > 0 (root attributes "
+                     std::to_string(model_rho_g) + " N/m^2 (2D: kg/m^2 times m/s^2); expected both finite and > 0 (root attributes "
                      "rho_bulk_kg_per_m2 * gravity_m_per_s2, and rho_g_h_N_per_m / height_m)");
   Scales k;
   k.stress = dem_rho_g / model_rho_g;

@@ -101,7 +101,7 @@ nlohmann::json solve_model(Problem& problem, const std::string& name, const Solv
   const auto rows = sample_profiles(out.tria, out.pile, out.settings.profile_heights, out.settings.profile_points,
                                     name, names, fields, out.rho_g_h, out.comm);
   out.profile_rows.insert(out.profile_rows.end(), rows.begin(), rows.end());
-  out.fields.push_back({name, names, Problem::field_units(), evaluate_at_points(out.points, names.size(), fields, out.comm)});
+  out.fields.push_back({name, names, Problem::field_units(), evaluate_at_points(out.points, names.size(), fields, out.comm), {}});
   const double wall = timer.wall_time();
   out.pcout << name << ": " << r.n_dofs << " dofs, " << r.solver.iterations << " iterations, base force / weight = "
             << r.base_force_N / r.weight << ", " << wall << " s -> " << file << "\n";

@@ -143,7 +143,13 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   // The scene text is the same; the build that reads it must also make the same world of it.
   const std::string rebuilt = ": this build makes a different world of the same scene (";
   const std::string restart_anew = "); restart needs the build that wrote the checkpoint, or run anew without --restart";
-  const std::string scheme = f.attribute_string("/world", "scheme");
+  std::string scheme;
+  try {
+    scheme = f.attribute_string("/world", "scheme");
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + ": written by a pilelab older than its build check; run anew "
+                     "without --restart");
+  }
   if (scheme != scheme_name(world.settings().scheme))
     throw InputError(path + ": /world scheme" + rebuilt + "integrator '" + scheme_name(world.settings().scheme) +
                      "', the checkpoint's '" + scheme + "'" + restart_anew);

@@ -1,6 +1,7 @@
 #include "mesh/pile_mesh.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -159,8 +160,9 @@ void check_element_count(double area, const MeshSpec& spec) {
     if (spec.kind != MeshSpec::Kind::block && spec.axis_element_size_m > 0 &&
         spec.axis_element_size_m < spec.element_size_m)
       sizes += " and mesh.axis_element_size_m = " + std::to_string(spec.axis_element_size_m) + " m";
-    throw InputError(sizes + " give about " + std::to_string(static_cast<long>(estimate)) +
-                     " triangles; expected at most 4e6 (raise the element sizes)");
+    char count[32];
+    std::snprintf(count, sizeof count, "%.3g", estimate);  // may exceed any integer type
+    throw InputError(sizes + " give about " + count + " triangles; expected at most 4e6 (raise the element sizes)");
   }
 }
 

@@ -56,14 +56,17 @@ Synthetic elastic_field(double lambda, double mu, int n = 24) {
 }
 
 // fields.h5 as coarse/ writes it; an ensemble's piles go to /piles/K as well.
-void write_fields(const std::string& path, const Synthetic& s, const std::vector<const Synthetic*>& piles = {}) {
+// with_change = false: a DEM without a later snapshot, so no displacement or strain data and a
+// gravity change of 0 (as coarse writes it then).
+void write_fields(const std::string& path, const Synthetic& s, const std::vector<const Synthetic*>& piles = {},
+                  bool with_change = true) {
   H5File h = H5File::create(path);
   h.set_attribute("/", "format", std::string("pilelab-fields"));
   h.set_attribute("/", "rve_radius_m", 0.1);
   h.set_attribute("/", "height_m", 1.0);
   h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
   h.set_attribute("/", "gravity_m_per_s2", 9.81);
-  h.set_attribute("/", "gravity_change", -0.1);
+  h.set_attribute("/", "gravity_change", with_change ? -0.1 : 0.0);
   const std::uint64_t k = s.xy.size() / 2;
   h.write("/mesh/nodes", s.xy, {k, 2}, "m");
   h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
@@ -71,8 +74,11 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
   h.set_attribute("/fields", "location", std::string("nodes"));
   const auto count = static_cast<std::int64_t>(std::max<std::size_t>(piles.size(), 1));
   for (const auto& [name, v] : s.fields) {
-    h.write("/fields/" + name, v);
-    h.write("/fields/" + name + "_count", std::vector<std::int64_t>(v.size(), count));
+    const bool change_field = name.rfind("displacement", 0) == 0 || name.rfind("strain", 0) == 0 ||
+                              name.rfind("stress_change", 0) == 0;
+    h.write("/fields/" + name, change_field && !with_change ? std::vector<double>(v.size(), NAN) : v);
+    h.write("/fields/" + name + "_count",
+            std::vector<std::int64_t>(v.size(), change_field && !with_change ? 0 : count));
     for (std::size_t k = 0; k < piles.size(); ++k) h.write("/piles/" + std::to_string(k) + "/" + name, piles[k]->fields.at(name));
   }
 }
@@ -156,7 +162,7 @@ TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
 void write_models(const std::string& path, const Synthetic& s, double rho_g_factor, double change_factor,
                   bool with_change = true, bool with_height = true) {
   H5File m = H5File::create(path);
-  m.set_attribute("/", "rho_g_h_N_per_m", 1000.0 * rho_g_factor);  // the DEM's rho g is 1000 N/m^3, h = 1 m
+  m.set_attribute("/", "rho_g_h_N_per_m", 1000.0 * rho_g_factor);  // the DEM's rho g is 1000 N/m^2, h = 1 m
   if (with_height) m.set_attribute("/", "height_m", 1.0);
   m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
   for (const char* q : {"stress_xx", "stress_yy", "stress_xy"}) {
@@ -227,6 +233,22 @@ TEST(CompareRun, ZeroGravityChangeLeavesDisplacementsOut) {
   EXPECT_TRUE(same.contains("displacement_comparison_skipped"));
   EXPECT_FALSE(same.contains("relative_l2_displacement"));
   EXPECT_FALSE(same.contains("relative_l2_strain_yy"));
+  EXPECT_NEAR(same["relative_l2_stress_yy"].get<double>(), 0.0, 1e-14);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(CompareRun, DemWithoutALaterSnapshotLeavesDisplacementsOut) {
+  // No relaxation snapshot: the DEM's displacement and strain fields are empty and its gravity
+  // change is 0. The stresses still compare; the model's displacements are not compared.
+  const std::string dir = temp_dir("pilelab_compare_no_dem_change");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s, {}, false);
+  write_models(dir + "/models.h5", s, 1.0, 1.0);
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto& same = c["models"]["same"];
+  // Absent, or NaN (written as null): never a number that pretends to measure something.
+  EXPECT_TRUE(!same.contains("relative_l2_displacement") || std::isnan(same["relative_l2_displacement"].get<double>()));
   EXPECT_NEAR(same["relative_l2_stress_yy"].get<double>(), 0.0, 1e-14);
   std::filesystem::remove_all(dir);
 }

@@ -178,6 +178,12 @@ void write_models(const std::string& path, const Synthetic& s, double rho_g_fact
   if (with_change) m.set_attribute("/same", "gravity_change", -0.1 * change_factor);
 }
 
+// Compare run in dir, on the fields.h5 and models.h5 written there, with a scene of its own.
+nlohmann::json run_compare_in(const std::string& dir) {
+  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
+  return compare::run_compare({dir + "/scene.toml", dir});
+}
+
 // The same fields as the DEM, differing only by rounding once put on the DEM's scale.
 void expect_same_fields(const nlohmann::json& same, std::size_t points) {
   EXPECT_EQ(same["matched_points"].get<std::size_t>(), points);
@@ -192,8 +198,7 @@ TEST(CompareRun, IdenticalModelDiffersByZero) {
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
   write_models(dir + "/models.h5", s, 1.0, 1.0);
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
-  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto c = run_compare_in(dir);
   expect_same_fields(c["models"]["same"], s.xy.size() / 2);
   EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
   EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1.0, 1e-15);
@@ -208,8 +213,7 @@ TEST(CompareRun, ModelWithAnotherDensityAndGravityChangeIsRescaled) {
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
   write_models(dir + "/models.h5", s, 2.5, 3.0);
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
-  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto c = run_compare_in(dir);
   expect_same_fields(c["models"]["same"], s.xy.size() / 2);
   EXPECT_NEAR(c["stress_scale_dem_over_model"].get<double>(), 1 / 2.5, 1e-15);
   EXPECT_NEAR(c["models"]["same"]["displacement_scale_dem_over_model"].get<double>(), 1 / 7.5, 1e-15);
@@ -227,8 +231,7 @@ TEST(CompareRun, ZeroGravityChangeLeavesDisplacementsOut) {
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
   write_models(dir + "/models.h5", s, 1.0, 0.0);
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
-  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto c = run_compare_in(dir);
   const auto& same = c["models"]["same"];
   EXPECT_TRUE(same.contains("displacement_comparison_skipped"));
   EXPECT_FALSE(same.contains("relative_l2_displacement"));
@@ -244,8 +247,7 @@ TEST(CompareRun, DemWithoutALaterSnapshotLeavesDisplacementsOut) {
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s, {}, false);
   write_models(dir + "/models.h5", s, 1.0, 1.0);
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
-  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto c = run_compare_in(dir);
   const auto& same = c["models"]["same"];
   // Absent, or NaN (written as null): never a number that pretends to measure something.
   EXPECT_TRUE(!same.contains("relative_l2_displacement") || std::isnan(same["relative_l2_displacement"].get<double>()));
@@ -259,13 +261,12 @@ TEST(CompareRun, ModelWithoutItsScaleIsAnError) {
   const std::string dir = temp_dir("pilelab_compare_unscaled");
   const Synthetic s = elastic_field(3e6, 1e6);
   write_fields(dir + "/fields.h5", s);
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
   const std::pair<bool, const char*> cases[] = {{true, "gravity_change"}, {false, "height_m"}};
   for (const auto& [no_change, attribute] : cases) {
     std::filesystem::remove(dir + "/models.h5");
     write_models(dir + "/models.h5", s, 1.0, 1.0, !no_change, no_change);
     try {
-      compare::run_compare({dir + "/scene.toml", dir});
+      run_compare_in(dir);
       ADD_FAILURE() << "no error without " << attribute;
     } catch (const InputError& e) {
       const std::string m = e.what();
@@ -282,16 +283,15 @@ TEST(CompareRun, ModelWithoutItsScaleIsAnError) {
 TEST(CompareRun, ReportWithoutReposeAnglesGivesNoFpaAngle) {
   const std::string dir = temp_dir("pilelab_compare_repose");
   write_fields(dir + "/fields.h5", elastic_field(3e6, 1e6));
-  std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
   for (const char* dem : {R"({})", R"({"repose_angle_left_deg": 30.0})", R"({"repose_angle_left_deg": 30.0,
                            "repose_angle_right_deg": null})", R"(5)"}) {
     std::ofstream(dir + "/report.json") << "{\"dem\": " << dem << "}\n";
-    const auto c = compare::run_compare({dir + "/scene.toml", dir});
+    const auto c = run_compare_in(dir);
     EXPECT_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 0.0) << dem;
   }
   // Both present: their mean, and psi = 45 - phi/2.
   std::ofstream(dir + "/report.json") << R"({"dem": {"repose_angle_left_deg": 30.0, "repose_angle_right_deg": 34.0}})";
-  const auto c = compare::run_compare({dir + "/scene.toml", dir});
+  const auto c = run_compare_in(dir);
   EXPECT_DOUBLE_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 32.0);
   EXPECT_DOUBLE_EQ(c["fpa_angle"]["psi_fpa_deg"].get<double>(), 29.0);
   std::filesystem::remove_all(dir);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/portable_math.h"
+
 namespace pilelab::coarse {
 
 using dem::Vec2;
@@ -10,7 +12,7 @@ using dem::Vec2;
 namespace {
 // Signed sector area between directions p and q (radius r, angle from p to q in (-pi, pi]).
 double sector(const Vec2& p, const Vec2& q, double r) {
-  return 0.5 * r * r * std::atan2(dem::cross(p, q), p.dot(q));
+  return 0.5 * r * r * portable_atan2(dem::cross(p, q), p.dot(q));
 }
 }  // namespace
 

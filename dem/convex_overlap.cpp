@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "common/portable_math.h"
+
 namespace pilelab::dem {
 
 namespace {
@@ -229,7 +231,7 @@ double circular_segment_area(double r, double x, double g, double h) {
     }
     return r * r * sum + h * g;
   }
-  return r * r * std::atan2(h, x) - x * h;  // theta > 30 degrees: the cancellation is mild
+  return r * r * portable_atan2(h, x) - x * h;  // theta > 30 degrees: the cancellation is mild
 }
 }  // namespace
 
@@ -291,7 +293,7 @@ double disc_triangle_area(Vec2 p, Vec2 q, double r) {
   const double r2 = r * r;
   const Vec2 d = q - p;
   if (d.squaredNorm() == 0.0) return 0.0;
-  auto sector = [&](const Vec2& u, const Vec2& v) { return 0.5 * r2 * std::atan2(cross(u, v), u.dot(v)); };
+  auto sector = [&](const Vec2& u, const Vec2& v) { return 0.5 * r2 * portable_atan2(cross(u, v), u.dot(v)); };
   auto triangle = [&](const Vec2& u, const Vec2& v) { return 0.5 * cross(u, v); };
   double t_in, t_out;
   if (!line_meets_circle(p, d, r, t_in, t_out)) return sector(p, q);  // the segment's line misses the circle

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/portable_math.h"
 #include "dem/grain_generator.h"
 
 namespace pilelab::dem {
@@ -90,7 +91,7 @@ void PileProtocol::build_container() {
     const double slope = M_PI / 3.0;
     for (double side : {-1.0, 1.0}) {
       const Vec2 lower_end(p.funnel_x + side * (p.outlet_width / 2 + d), p.funnel_height + d);
-      const Vec2 centre = lower_end + 0.5 * length * Vec2(side * std::cos(slope), std::sin(slope));
+      const Vec2 centre = lower_end + 0.5 * length * Vec2(side * portable_cos(slope), portable_sin(slope));
       funnel_walls_.push_back(world_.add_wall(plate, centre, side * slope, {p.funnel_speed, 0.0}));
     }
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/portable_math.h"
+
 namespace pilelab::dem {
 
 namespace {
@@ -41,7 +43,7 @@ PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_
   for (std::size_t g = 0; g < n; ++g) {
     const Vec2 p(snapshot.position[2 * g], snapshot.position[2 * g + 1]);
     const Shape& s = world.shape(static_cast<int>(snapshot.body[g]));
-    const double c = std::cos(snapshot.angle[g]), sn = std::sin(snapshot.angle[g]);
+    const double c = portable_cos(snapshot.angle[g]), sn = portable_sin(snapshot.angle[g]);
     double y = p.y() + s.radius;
     for (const Vec2& v : s.vertices) y = std::max(y, p.y() + rotate(v, c, sn).y());
     const int b = static_cast<int>((p.x() - xmin) / bin_width);
@@ -63,8 +65,8 @@ PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_
   const double nan = std::numeric_limits<double>::quiet_NaN();
   shape.left_points = static_cast<int>(left.size());
   shape.right_points = static_cast<int>(right.size());
-  shape.repose_left_deg = left.size() >= 3 ? std::atan(std::abs(fitted_slope(left))) * 180.0 / M_PI : nan;
-  shape.repose_right_deg = right.size() >= 3 ? std::atan(std::abs(fitted_slope(right))) * 180.0 / M_PI : nan;
+  shape.repose_left_deg = left.size() >= 3 ? portable_atan(std::abs(fitted_slope(left))) * 180.0 / M_PI : nan;
+  shape.repose_right_deg = right.size() >= 3 ? portable_atan(std::abs(fitted_slope(right))) * 180.0 / M_PI : nan;
   return shape;
 }
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "common/atomic_file.h"
+#include "common/portable_math.h"
 
 namespace pilelab::dem {
 
@@ -114,10 +115,10 @@ void add_outline(Grid& g, const World& world, int body) {
   if (s.kind == ShapeKind::disc) {
     for (int k = 0; k < disc_outline_corners; ++k) {
       const double phi = th + 2.0 * M_PI * k / disc_outline_corners;
-      g.add_point(p + s.radius * Vec2(std::cos(phi), std::sin(phi)));
+      g.add_point(p + s.radius * Vec2(portable_cos(phi), portable_sin(phi)));
     }
   } else {
-    const double c = std::cos(th), sn = std::sin(th);
+    const double c = portable_cos(th), sn = portable_sin(th);
     for (const Vec2& v : s.vertices) g.add_point(p + rotate(v, c, sn));
   }
   g.close_cell(vtk_polygon);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/portable_math.h"
 
 namespace pilelab::mesh {
 
@@ -57,7 +58,7 @@ Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot,
     const dem::Vec2 c(snapshot.position[2 * g], snapshot.position[2 * g + 1]);
     const dem::Shape& s = file.shapes.at(static_cast<std::size_t>(snapshot.body[g]));
     double top = c.y() + s.radius, left = c.x() - s.radius, right = c.x() + s.radius;
-    const double cs = std::cos(snapshot.angle[g]), sn = std::sin(snapshot.angle[g]);
+    const double cs = portable_cos(snapshot.angle[g]), sn = portable_sin(snapshot.angle[g]);
     for (const dem::Vec2& v : s.vertices) {
       const dem::Vec2 w = c + dem::rotate(v, cs, sn);
       top = std::max(top, w.y());

@@ -40,9 +40,10 @@ class CliTest : public ::testing::Test {
     std::ofstream(path(name)) << text;
     return path(name);
   }
-  CommandResult run(const std::string& args) const {
+  // Runs pilelab with args; environment is "NAME=value ..." put before the command.
+  CommandResult run(const std::string& args, const std::string& environment = "") const {
     const std::string log = path("command.log");
-    const std::string cmd = std::string(PILELAB_BINARY) + " " + args + " > " + log + " 2>&1";
+    const std::string cmd = environment + " " + std::string(PILELAB_BINARY) + " " + args + " > " + log + " 2>&1";
     const int status = std::system(cmd.c_str());
     std::ifstream in(log);
     std::stringstream s;

@@ -73,7 +73,8 @@ void grain_displacements(const Packing& from, const Packing& to, std::vector<Vec
 std::vector<Vec2> world_outline(const Grain& g) {
   std::vector<Vec2> out;
   if (!g.shape || g.shape->kind == dem::ShapeKind::disc) return out;
-  const double c = portable_cos(g.angle), s = portable_sin(g.angle);
+  double s, c;
+  portable_sincos(g.angle, s, c);
   out.reserve(g.shape->vertices.size());
   for (const Vec2& v : g.shape->vertices) out.push_back(g.centre + dem::rotate(v, c, s));
   return out;

@@ -208,8 +208,7 @@ inline double portable_atan2(double y, double x) {
     const bool steep = ay > ax, left = std::signbit(x);
     // angle = base + sign * t, base in {0, pi/2, pi}
     const double sign = steep == left ? 1.0 : -1.0;
-    const d::Wide base = !left ? (steep ? d::Wide{d::pio2_hi, d::pio2_lo} : d::Wide{0.0, 0.0})
-                               : (steep ? d::Wide{d::pio2_hi, d::pio2_lo} : d::Wide{d::pi_hi, d::pi_lo});
+    const d::Wide base = steep ? d::Wide{d::pio2_hi, d::pio2_lo} : left ? d::Wide{d::pi_hi, d::pi_lo} : d::Wide{0.0, 0.0};
     const d::Wide head = d::two_sum(base.hi, sign * t.hi);
     angle = head.hi + (head.lo + (base.lo + sign * t.lo));
   }

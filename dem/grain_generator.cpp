@@ -15,7 +15,9 @@ Shape random_grain(const GrainSpec& spec, Rng& rng) {
   std::vector<Vec2> corners(n);
   for (int k = 0; k < n; ++k) {
     const double phi = 2.0 * M_PI * (k + rng.uniform(-spec.corner_jitter, spec.corner_jitter)) / n;
-    corners[k] = Vec2(semi_a * portable_cos(phi), semi_b * portable_sin(phi));
+    double s, c;
+    portable_sincos(phi, s, c);
+    corners[k] = Vec2(semi_a * c, semi_b * s);
   }
   // Points in angular order on an ellipse always form a convex polygon.
   return make_polygon(std::move(corners));

@@ -118,7 +118,8 @@ void add_outline(Grid& g, const World& world, int body) {
       g.add_point(p + s.radius * Vec2(portable_cos(phi), portable_sin(phi)));
     }
   } else {
-    const double c = portable_cos(th), sn = portable_sin(th);
+    double sn, c;
+    portable_sincos(th, sn, c);
     for (const Vec2& v : s.vertices) g.add_point(p + rotate(v, c, sn));
   }
   g.close_cell(vtk_polygon);

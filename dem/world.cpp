@@ -139,7 +139,8 @@ void World::place_body(int body) {
   const Shape& s = shapes_[body];
   if (s.vertices.empty()) return;
   const double th = motion_.d[0][3 * body + 2];
-  const double c = portable_cos(th), sn = portable_sin(th);
+  double sn, c;
+  portable_sincos(th, sn, c);  // one reduction for both
   const Vec2 p(motion_.d[0][3 * body], motion_.d[0][3 * body + 1]);
   Vec2* out = &world_vertices_[vertex_offset_[body]];
   for (std::size_t k = 0; k < s.vertices.size(); ++k) out[k] = p + rotate(s.vertices[k], c, sn);

@@ -58,7 +58,8 @@ Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot,
     const dem::Vec2 c(snapshot.position[2 * g], snapshot.position[2 * g + 1]);
     const dem::Shape& s = file.shapes.at(static_cast<std::size_t>(snapshot.body[g]));
     double top = c.y() + s.radius, left = c.x() - s.radius, right = c.x() + s.radius;
-    const double cs = portable_cos(snapshot.angle[g]), sn = portable_sin(snapshot.angle[g]);
+    double sn, cs;
+    portable_sincos(snapshot.angle[g], sn, cs);
     for (const dem::Vec2& v : s.vertices) {
       const dem::Vec2 w = c + dem::rotate(v, cs, sn);
       top = std::max(top, w.y());

@@ -30,11 +30,41 @@ struct Handle {
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
 };
+
+// Creation properties of an object (file root, group or dataset) without the creation and
+// modification times HDF5 records by default: with them, two runs of the same scene and seed
+// would write files that differ in the bytes of those clocks.
+hid_t untimed(hid_t property_class) {
+  hid_t plist = H5Pcreate(property_class);
+  H5Pset_obj_track_times(plist, 0);
+  return plist;
+}
+
+// Creates every missing group along `path` ("/a/b/c" makes /a, /a/b and /a/b/c) with untimed
+// properties; HDF5's own intermediate-group creation would use the timed defaults.
+void create_groups(hid_t file, const std::string& path, const std::string& file_path) {
+  std::size_t end = 0;
+  while (end != std::string::npos) {
+    end = path.find('/', end + 1);
+    const std::string prefix = path.substr(0, end);
+    if (prefix.empty() || prefix == "/" || H5Lexists(file, prefix.c_str(), H5P_DEFAULT) > 0) continue;
+    Handle gcpl(untimed(H5P_GROUP_CREATE));
+    Handle g(H5Gcreate2(file, prefix.c_str(), H5P_DEFAULT, gcpl.id, H5P_DEFAULT));
+    if (g.id < 0) throw InputError(file_path + ": " + prefix + ": cannot create group");
+  }
+}
+
+// Creates the groups that hold `object_path` (all but its last component).
+void create_parent_groups(hid_t file, const std::string& object_path, const std::string& file_path) {
+  const std::size_t slash = object_path.rfind('/');
+  if (slash != std::string::npos && slash > 0) create_groups(file, object_path.substr(0, slash), file_path);
+}
 }  // namespace
 
 H5File H5File::create(const std::string& path) {
   silence();
-  hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  Handle fcpl(untimed(H5P_FILE_CREATE));  // the root group's times
+  hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.id, H5P_DEFAULT);
   if (id < 0) throw InputError(path + ": cannot create HDF5 file");
   return H5File(id, path);
 }
@@ -92,10 +122,7 @@ std::vector<std::string> H5File::list(const std::string& group_path) const {
 
 void H5File::ensure_group(const std::string& group_path) {
   if (group_path.empty() || group_path == "/" || exists(group_path)) return;
-  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
-  H5Pset_create_intermediate_group(lcpl.id, 1);
-  Handle g(H5Gcreate2(id_, group_path.c_str(), lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
-  if (g.id < 0) fail(group_path, "cannot create group");
+  create_groups(id_, group_path, path_);
 }
 
 namespace {
@@ -106,9 +133,9 @@ void write_dataset(hid_t file, const std::string& name, const std::vector<T>& da
   if (product(dims) != data.size()) throw InputError(path + ": " + name + ": shape does not match data");
   std::vector<hsize_t> hd(dims.begin(), dims.end());
   Handle space(H5Screate_simple(static_cast<int>(hd.size()), hd.data(), nullptr));
-  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
-  H5Pset_create_intermediate_group(lcpl.id, 1);
-  Handle ds(H5Dcreate2(file, name.c_str(), type, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
+  create_parent_groups(file, name, path);
+  Handle dcpl(untimed(H5P_DATASET_CREATE));
+  Handle ds(H5Dcreate2(file, name.c_str(), type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   if (ds.id < 0) throw InputError(path + ": " + name + ": cannot create dataset");
   if (!data.empty() && H5Dwrite(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     throw InputError(path + ": " + name + ": cannot write dataset");
@@ -156,9 +183,9 @@ void H5File::write_string(const std::string& dataset, const std::string& text) {
   H5Tset_size(type.id, H5T_VARIABLE);
   H5Tset_cset(type.id, H5T_CSET_UTF8);
   Handle space(H5Screate(H5S_SCALAR));
-  Handle lcpl(H5Pcreate(H5P_LINK_CREATE));
-  H5Pset_create_intermediate_group(lcpl.id, 1);
-  Handle ds(H5Dcreate2(id_, dataset.c_str(), type.id, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT));
+  create_parent_groups(id_, dataset, path_);
+  Handle dcpl(untimed(H5P_DATASET_CREATE));
+  Handle ds(H5Dcreate2(id_, dataset.c_str(), type.id, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   if (ds.id < 0) fail(dataset, "cannot create string dataset");
   const char* p = text.c_str();
   if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) fail(dataset, "cannot write string");

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);  // runs the chosen subcommand's action
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version end here with 0; a bad option or a missing file is bad input.
+    return app.exit(e) == 0 ? 0 : 2;
   } catch (const pilelab::InputError& e) {
     std::fprintf(stderr, "pilelab: error: %s\n", e.what());
     return 2;

@@ -1,6 +1,7 @@
 #include "common/scene_reader.h"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "common/atomic_file.h"
@@ -160,11 +161,18 @@ std::string SceneReader::table_text(std::string_view table) const {
 }
 
 namespace {
-void collect_leaves(const toml::table& t, const std::string& prefix, std::vector<std::string>& out) {
+// The dotted paths of every value in t, and of every empty table (which holds no value to
+// catch a misspelt table name by).
+void collect_leaves(const toml::table& t, const std::string& prefix, std::vector<std::string>& out,
+                    std::vector<std::string>& empty_tables) {
   for (const auto& [k, v] : t) {
     const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (const toml::table* sub = v.as_table()) collect_leaves(*sub, path, out);
-    else out.push_back(path);
+    if (const toml::table* sub = v.as_table()) {
+      if (sub->empty()) empty_tables.push_back(path);
+      collect_leaves(*sub, path, out, empty_tables);
+    } else {
+      out.push_back(path);
+    }
   }
 }
 }  // namespace
@@ -181,8 +189,29 @@ void SceneReader::reject_unknown(const std::vector<std::string>& tables_to_check
       throw InputError(source_ + ": unknown top-level key or table '" + name + "' (known: " + list + "])");
     }
   }
-  std::vector<std::string> leaves;
-  collect_leaves(root_, "", leaves);
+  std::vector<std::string> leaves, empty_tables;
+  collect_leaves(root_, "", leaves, empty_tables);
+  for (const auto& table : empty_tables) {
+    const std::string top = table.substr(0, table.find('.'));
+    bool checked = false;
+    for (const auto& t : tables_to_check) checked = checked || (t == top);
+    // A table is known if any key was asked for inside it; list the known tables beside it.
+    bool known = false;
+    std::set<std::string> siblings;
+    const std::string parent = table.find('.') == std::string::npos ? "" : table.substr(0, table.rfind('.'));
+    for (const auto& a : asked_) {
+      known = known || a.rfind(table + ".", 0) == 0;
+      if (!parent.empty() && a.rfind(parent + ".", 0) == 0) {
+        const std::string rest = a.substr(parent.size() + 1);
+        if (rest.find('.') != std::string::npos) siblings.insert(parent + "." + rest.substr(0, rest.find('.')));
+      }
+    }
+    if (!checked || known) continue;
+    std::string list;
+    for (const auto& t : siblings) list += (list.empty() ? "" : "], [") + t;
+    throw InputError(source_ + ": unknown table [" + table + "]" +
+                     (list.empty() ? std::string() : " (known tables: [" + list + "])"));
+  }
   for (const auto& leaf : leaves) {
     const std::string top = leaf.substr(0, leaf.find('.'));
     bool checked = false;

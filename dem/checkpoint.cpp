@@ -136,6 +136,9 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   if (!std::filesystem::exists(path))
     throw InputError(path + ": no checkpoint to restart from (run without --restart first)");
   H5File f = H5File::open_read(path);
+  if (!f.exists("/world") || !f.exists("/protocol"))
+    throw InputError(path + ": not a pilelab checkpoint (no /world or /protocol group); expected the "
+                     "checkpoint.h5 a run of this scene wrote into its output directory");
   if (f.read_string("/scene") != scene_text)
     throw InputError(path + ": /scene: the checkpoint was written for a different scene text; "
                      "restart needs the scene file unchanged");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "common/portable_math.h"
@@ -24,12 +25,44 @@ const char* phase_name(Phase p) {
 namespace {
 // Grain shapes come from their own stream, so that changing the pouring (positions, angles)
 // never changes the grains themselves.
-std::vector<Shape> draw_shapes(const DemScene& scene) {
+std::vector<Shape> draw_shapes(const DemScene& scene, const std::string& source) {
   Rng rng(scene.seed);
   std::vector<Shape> shapes;
   shapes.reserve(scene.grain_count);
-  for (int i = 0; i < scene.grain_count; ++i) shapes.push_back(random_grain(scene.grains, rng));
+  for (int i = 0; i < scene.grain_count; ++i) {
+    try {
+      shapes.push_back(random_grain(scene.grains, rng));
+    } catch (const std::invalid_argument& e) {  // a size so small that the corners round together
+      std::ostringstream s;
+      s << source << ": dem.grains.mean_diameter_m = " << scene.grains.mean_diameter << " m gives grain " << i
+        << " no usable shape (" << e.what() << "); expected a size well above the rounding of coordinates";
+      throw InputError(s.str());
+    }
+  }
   return shapes;
+}
+
+// Values each in its own range can still combine to a world double precision cannot hold: a
+// grain so light or small that its mass, inertia or time step underflows or overflows. Refused
+// here, with the keys that set them, before the run could step with a NaN time step.
+void check_grain_scales(const DemScene& scene, const std::vector<Shape>& shapes, const TimeStepBound& bound,
+                        const std::string& source) {
+  const auto usable = [](double v) { return std::isnormal(v) && v > 0.0; };
+  bool ok = usable(bound.stable_limit) && usable(bound.omega_max);
+  for (const Shape& g : shapes) {
+    const double mass = scene.areal_density * g.area, inertia = scene.areal_density * g.polar_moment;
+    ok = ok && usable(g.area) && usable(mass) && usable(inertia);
+  }
+  if (ok) return;
+  std::ostringstream s;
+  s.precision(4);
+  s << source << ": dem.grains.mean_diameter_m = " << scene.grains.mean_diameter
+    << " m, dem.grains.areal_density_kg_per_m2 = " << scene.areal_density
+    << " and dem.contact.youngs_modulus_N_per_m = " << scene.contact.youngs_modulus
+    << " give grains whose mass, moment of inertia or stable time step (" << bound.stable_limit
+    << " s) is zero, infinite or NaN in double precision; expected physical scales (paper: 6.8e-3 m, 5000 "
+       "kg/m^2, 1e7 N/m)";
+  throw InputError(s.str());
 }
 
 WorldSettings world_settings(const DemScene& scene, const TimeStepBound& bound, const std::string& source) {
@@ -57,11 +90,52 @@ WorldSettings world_settings(const DemScene& scene, const TimeStepBound& bound, 
 }
 }  // namespace
 
+RunDuration run_duration(const DemScene& scene) {
+  const double pour = (scene.grain_count - 1) / scene.pour.rate;
+  const SettleSpec& st = scene.settle;
+  const int settlings = scene.relax.enabled ? 2 : 1;
+  const double ramp = scene.relax.enabled ? scene.relax.ramp_time : 0.0;
+  return {pour + settlings * st.min_time + ramp, pour + settlings * st.max_time + ramp};
+}
+
+void check_run_length(const DemScene& scene, double time_step, const std::string& source) {
+  const RunDuration d = run_duration(scene);
+  const double n = scene.grain_count, steps = d.shortest / time_step;
+  // While pouring, the grains in the world grow at the rate: the grain-steps are the area under
+  // n(t), n^2 / (2 rate), over the step; after it, all n grains step.
+  const double grain_steps = (n * n / (2.0 * scene.pour.rate) + n * (d.shortest - (n - 1) / scene.pour.rate)) / time_step;
+  std::ostringstream s;
+  s.precision(3);
+  if (steps > max_run_steps || grain_steps > max_run_grain_steps) {
+    s << source << ": this run would take at least " << steps << " time steps and " << grain_steps
+      << " grain-steps (" << d.shortest << " s of simulated time at dt = " << time_step << " s for " << scene.grain_count
+      << " grains); expected at most " << max_run_steps << " steps and " << max_run_grain_steps
+      << " grain-steps, which already take days to a year. Check dem.pour.rate_grains_per_s (" << scene.pour.rate
+      << " grains/s), dem.settle.min_time_s, dem.relax.ramp_time_s and the time step (dem.integrator.time_step_s, "
+         "or the grain size, density and stiffness that set its bound)";
+    throw InputError(s.str());
+  }
+  const OutputSpec& o = scene.output;
+  for (const auto& [key, interval] : {std::pair<const char*, double>{"dem.output.frame_interval_s", o.frame_interval},
+                                      {"dem.output.checkpoint_interval_s", o.checkpoint_interval}}) {
+    // An interval below the step writes a file every step.
+    const double files = interval > 0.0 ? d.shortest / std::max(interval, time_step) : 0.0;
+    if (files > max_run_files) {
+      s << source << ": " << key << " = " << interval << " s would write at least " << files << " files over "
+        << d.shortest << " s of simulated time; expected at most " << max_run_files
+        << ": a longer interval, or 0 for none";
+      throw InputError(s.str());
+    }
+  }
+}
+
 PileProtocol::PileProtocol(const DemScene& scene, const std::string& source)
     : scene_(scene), world_(WorldSettings{}), rng_(scene.seed ^ 0x5eed5eed5eed5eedULL) {
-  std::vector<Shape> shapes = draw_shapes(scene);
+  std::vector<Shape> shapes = draw_shapes(scene, source);
   bound_ = stable_time_step(shapes, scene.areal_density, scene.contact, scene.scheme);
+  check_grain_scales(scene, shapes, bound_, source);
   world_ = World(world_settings(scene, bound_, source));
+  check_run_length(scene, world_.settings().time_step, source);
   build_container();
   first_grain_ = world_.body_count();
   for (const Shape& s : shapes) world_.add_grain(s, scene.areal_density);

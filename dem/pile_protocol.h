@@ -21,6 +21,22 @@ namespace pilelab::dem {
 enum class Phase : int { pour = 0, settle = 1, ramp = 2, relax_settle = 3, done = 4 };
 const char* phase_name(Phase p);
 
+/// Bounds on the simulated time a run of the scene lasts [s]: the pour at its rate, then each
+/// settling phase between its shortest and longest time, and the gravity ramp if asked for.
+struct RunDuration {
+  double shortest = 0.0;
+  double longest = 0.0;
+};
+RunDuration run_duration(const DemScene& scene);
+
+/// Refuses, with an InputError naming `source` and the keys, a run that no computer would
+/// finish: more time steps or grain-steps than the limits below even at its shortest, or more
+/// frames or checkpoints than a directory can usefully hold.
+void check_run_length(const DemScene& scene, double time_step, const std::string& source);
+constexpr double max_run_steps = 1e12;         ///< days even for a lone grain
+constexpr double max_run_grain_steps = 1e14;   ///< about a year at 4e6 grain-steps/s (2 cores)
+constexpr double max_run_files = 1e4;          ///< frames, or checkpoints
+
 /// Everything besides the world that a restart needs to continue exactly.
 struct ProtocolState {
   Phase phase = Phase::pour;

@@ -2,6 +2,7 @@
 // the field, and a non-zero exit, never a crash or a silent run.
 #include <hdf5.h>
 
+#include <algorithm>
 #include <regex>
 
 #include "cli_test_support.h"
@@ -41,6 +42,17 @@ TEST_F(SceneErrors, UnknownTableIsNamed) {
   expect_error(edited("", "[dem.grain]\nshape = \"disc\""), "unknown key 'dem.grain.shape'");
 }
 
+TEST_F(SceneErrors, UnknownEmptyTableIsNamed) {
+  // An empty table holds no key to catch the typo by; the table itself is checked.
+  expect_error(edited("", "[dem.grian]"), "unknown table [dem.grian] (known tables: [dem.contact], [dem.container], ");
+}
+
+TEST_F(SceneErrors, EmptyKnownTableIsAccepted) {
+  const std::string scene = write_scene("scene.toml", edited("", "[dem.grains]"));
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q --stop-after-steps 10");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST_F(SceneErrors, UnknownTopLevelTableIsNamed) {
   expect_error(edited("", "[dme]\nseed = 1"), "unknown top-level key or table 'dme'");
 }
@@ -69,7 +81,10 @@ TEST_F(SceneErrors, TimeStepAboveTheStabilityLimitIsRefused) {
 }
 
 TEST_F(SceneErrors, InvalidTomlGivesTheLine) {
-  expect_error(edited("grain_count = 40", "grain_count = = 40"), "not valid TOML");
+  const std::string text = edited("grain_count = 40", "grain_count = = 40");
+  const auto line = 1 + std::count(text.begin(), text.begin() + text.find("grain_count = = 40"), '\n');
+  expect_error(text, "scene.toml:" + std::to_string(line) + ":");
+  expect_error(text, "not valid TOML");
 }
 
 TEST_F(SceneErrors, CornerCountOutOfRange) {
@@ -82,10 +97,46 @@ TEST_F(SceneErrors, PolydispersityThatAllowsVanishingGrainsIsRefused) {
                "dem.grains.polydispersity: 1 is out of range: expected 0 <= value <= 0.9");
 }
 
+// Each value in range, but together beyond double precision: no NaN time step, no bare error.
+TEST_F(SceneErrors, GrainsTooSmallToHaveAShapeAreRefused) {
+  expect_error(edited("", "[dem.grains]\nmean_diameter_m = 1e-200"),
+               "dem.grains.mean_diameter_m = 1e-200 m gives grain 0 no usable shape");
+}
+
+TEST_F(SceneErrors, GrainsWhoseInertiaUnderflowsAreRefused) {
+  // Inertia ~ density d^4 = 5000 * 1e-400: below the smallest double.
+  expect_error(edited("", "[dem.grains]\nmean_diameter_m = 1e-100"),
+               "give grains whose mass, moment of inertia or stable time step");
+}
+
+TEST_F(SceneErrors, GrainsWhoseMassUnderflowsAreRefused) {
+  expect_error(edited("grain_count = 40", "grain_count = 40\nareal_density_kg_per_m2 = 1e-300"),
+               "give grains whose mass, moment of inertia or stable time step");
+}
+
+// Runs no computer would finish are refused up front instead of running "forever".
+TEST_F(SceneErrors, PourSoSlowItCannotEndIsRefused) {
+  // 39 grains at one per 1e6 s: 3.9e7 s of pouring in steps of about 1e-5 s.
+  expect_error(edited("rate_grains_per_s = 400.0", "rate_grains_per_s = 1e-6"),
+               "this run would take at least");
+}
+
+TEST_F(SceneErrors, ForcedTinyTimeStepIsRefused) {
+  // 0.25 s of simulated time in steps of 1e-15 s: 2.5e14 steps.
+  expect_error(edited("scheme = \"verlet\"", "scheme = \"verlet\"\ntime_step_s = 1e-15"),
+               "this run would take at least");
+}
+
+TEST_F(SceneErrors, FrameEveryStepIsRefusedWhenTheyWouldBeTooMany) {
+  // At least 0.2475 s of run at a step near 1e-5 s: about 2.5e4 frames, one per step.
+  expect_error(edited("frame_interval_s = 0.1", "frame_interval_s = 1e-7"),
+               "dem.output.frame_interval_s = 1e-07 s would write at least");
+}
+
 TEST_F(SceneErrors, MissingSceneFile) {
   const auto r = run("dem " + path("nowhere.toml") + " -o " + path("out"));
-  EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.output.find("nowhere.toml"), std::string::npos) << r.output;
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("File does not exist: " + path("nowhere.toml")), std::string::npos) << r.output;
 }
 
 TEST_F(SceneErrors, RestartWithoutCheckpoint) {

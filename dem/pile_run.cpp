@@ -1,5 +1,6 @@
 #include "dem/pile_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -59,26 +60,56 @@ class FrameWriter {
   PvdSeries pvd_;
 };
 
+// A wall-clock span for progress lines: seconds, minutes or hours as fits.
+std::string duration_text(double seconds) {
+  char buf[32];
+  if (seconds < 120.0)
+    std::snprintf(buf, sizeof buf, "%.0f s", seconds);
+  else if (seconds < 7200.0)
+    std::snprintf(buf, sizeof buf, "%.0f min", seconds / 60.0);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
+  return buf;
+}
+
 void print_progress(const PileProtocol& p, double steps_per_s, double grain_steps_per_s) {
   const auto& s = p.state();
   const DemScene& scene = p.scene();
-  // Wall time left in the pour: a step costs about as much as the grains in the world, which
-  // grow at the pouring rate, so the grain-steps left are the area under N(t) up to the end of
-  // the pour (N^2 - n^2) / (2 rate), plus the shortest settling, over the time step.
-  double remaining_grain_steps = NAN;
+  const double t = p.world().time(), dt = p.world().settings().time_step;
+  // Wall time left. A step costs about as much as the grains in the world. While pouring they
+  // grow at the pouring rate, so the grain-steps left in the pour are the area under n(t) up to
+  // its end, (N^2 - n^2) / (2 rate), over the step. What follows is bounded by the phases' time
+  // limits (each settling may end sooner), with every grain stepping.
+  const double n = s.poured, total = scene.grain_count;
+  const RunDuration whole = run_duration(scene);
+  const double pour_end = (total - 1) / scene.pour.rate;
+  double pour_grain_steps = 0.0, after_pour = 0.0;
   if (s.phase == Phase::pour) {
-    const double n = s.poured, total = scene.grain_count;
-    remaining_grain_steps =
-        ((total * total - n * n) / (2.0 * scene.pour.rate) + total * scene.settle.min_time) / p.world().settings().time_step;
+    pour_grain_steps = (total * total - n * n) / (2.0 * scene.pour.rate) / dt;
+    after_pour = whole.longest - pour_end;
+  } else if (s.phase != Phase::done) {
+    // The time limits still ahead, counted from the start of the current phase.
+    const double in_phase = t - s.phase_start, settle = scene.settle.max_time;
+    const double ramp = scene.relax.enabled ? scene.relax.ramp_time : 0.0;
+    switch (s.phase) {
+      case Phase::settle: after_pour = settle - in_phase + ramp + (scene.relax.enabled ? settle : 0.0); break;
+      case Phase::ramp: after_pour = ramp - in_phase + settle; break;
+      default: after_pour = settle - in_phase; break;
+    }
   }
+  const double stepping = s.phase == Phase::pour ? total : static_cast<double>(p.world().active_grains().size());
+  const double run_grain_steps = pour_grain_steps + stepping * std::max(after_pour, 0.0) / dt;
   std::fprintf(stderr, "[%-12s] t = %8.4f s  grains %d/%d (lost %d)  KE %.3e J  %.3g steps/s  %.3g grain-steps/s",
-               phase_name(s.phase), p.world().time(), s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(),
-               steps_per_s, grain_steps_per_s);
-  if (std::isfinite(remaining_grain_steps) && grain_steps_per_s > 0)
-    std::fprintf(stderr, "  pour ends in ~%.0f s", remaining_grain_steps / grain_steps_per_s);
-  else if (s.phase != Phase::pour)
-    std::fprintf(stderr, "  (settling: KE/grain %.2e J, target %.2e J)", p.kinetic_energy_per_grain(),
+               phase_name(s.phase), t, s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(), steps_per_s,
+               grain_steps_per_s);
+  if (s.phase != Phase::pour)
+    std::fprintf(stderr, "  KE/grain %.2e J (settles below %.2e J),", p.kinetic_energy_per_grain(),
                  scene.settle.kinetic_energy_per_grain);
+  if (grain_steps_per_s > 0) {
+    if (s.phase == Phase::pour)
+      std::fprintf(stderr, "  pour ends in ~%s,", duration_text(pour_grain_steps / grain_steps_per_s).c_str());
+    std::fprintf(stderr, " run ends within ~%s", duration_text(run_grain_steps / grain_steps_per_s).c_str());
+  }
   std::fprintf(stderr, "\n");
 }
 
@@ -100,6 +131,13 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   if (p.state().lost > 0) {
     std::snprintf(text, sizeof text, "%d grains fell off the plate; a wider dem.container.plate_width_m keeps them",
                   p.state().lost);
+    warnings.emplace_back(text);
+  }
+  if (p.state().pour_stalled) {
+    std::snprintf(text, sizeof text,
+                  "the pour stopped after %d of %d grains: the pile reached the outlet and blocked it; a higher "
+                  "dem.pour.funnel_height_m makes room for all",
+                  p.state().poured, p.scene().grain_count);
     warnings.emplace_back(text);
   }
   const DeepestOverlap& deepest = p.world().deepest_overlap();
@@ -261,7 +299,10 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   if (world.active_grains().empty())
     throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
                      std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
-                     "): check dem.pour.funnel_x_m and dem.container.plate_width_m");
+                     "): check that dem.pour.funnel_x_m lies over the plate (dem.container.plate_width_m), and that "
+                     "grains cannot pass through it: contacts too soft for the impact speed (dem.contact."
+                     "youngs_modulus_N_per_m, dem.gravity_m_per_s2, dem.pour.funnel_height_m) or a forced "
+                     "dem.integrator.time_step_s");
   write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
                  run_info);
   nlohmann::json report = dem_report(protocol, counters, threads);

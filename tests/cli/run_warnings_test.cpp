@@ -66,3 +66,32 @@ TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
   EXPECT_GT(y, -0.02);  // the plate's top is y = 0 (docs/SCENES.md)
   EXPECT_LT(y, 0.30);
 }
+
+TEST_F(RunWarnings, StalledPourSaysHowManyGrainsWereLeftOut) {
+  // An outlet 15 mm above the plate: a pile of 120 grains 6.8 mm wide reaches it long before all
+  // are in (a heap 15 mm high holds a few dozen), so pouring stops early.
+  std::string text = tiny_scene();
+  text.replace(text.find("funnel_height_m = 0.06"), 22, "funnel_height_m = 0.015");
+  text.replace(text.find("grain_count = 40"), 16, "grain_count = 120");
+  const std::string scene = write_scene("low.toml", text);
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto report = dem_report(path("out"));
+  ASSERT_TRUE(report["pour_stalled"].get<bool>());
+  const int poured = report["poured"].get<int>();
+  EXPECT_LT(poured, 120);
+  const std::string expected = "the pour stopped after " + std::to_string(poured) + " of 120 grains";
+  EXPECT_NE(r.output.find("warning: " + expected), std::string::npos) << r.output;
+  bool reported = false;
+  for (const auto& w : report["warnings"]) reported = reported || w.get<std::string>().find(expected) == 0;
+  EXPECT_TRUE(reported);
+}
+
+TEST_F(RunWarnings, FullPourGivesNoStallWarning) {
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("out") + " -q").exit_code, 0);
+  const auto report = dem_report(path("out"));
+  EXPECT_FALSE(report["pour_stalled"].get<bool>());
+  EXPECT_EQ(report["poured"].get<int>(), 40);
+  for (const auto& w : report["warnings"]) EXPECT_EQ(w.get<std::string>().find("the pour stopped"), std::string::npos);
+}

@@ -71,6 +71,24 @@ TEST_F(SceneErrors, UnknownChoiceListsTheChoices) {
                "dem.integrator.scheme: \"rk4\" is not one of \"gear5\", \"verlet\", \"leapfrog\"");
 }
 
+TEST_F(SceneErrors, NotANumberIsRefused) {
+  expect_error(edited("", "[dem.contact]\nfriction_mu = nan"), "dem.contact.friction_mu: expected a finite number");
+}
+
+TEST_F(SceneErrors, InfinityIsRefused) {
+  expect_error(edited("", "[dem.contact]\nyoungs_modulus_N_per_m = inf"),
+               "dem.contact.youngs_modulus_N_per_m: expected a finite number");
+}
+
+TEST_F(SceneErrors, WrongTypeForASwitchIsNamed) {
+  expect_error(edited("enabled = true", "enabled = \"yes\""), "dem.relax.enabled: expected true or false");
+}
+
+TEST_F(SceneErrors, FrictionWithoutTangentialStiffnessIsRefused) {
+  expect_error(edited("", "[dem.contact]\ntangential_stiffness_ratio = 0.0"),
+               "dem.contact.tangential_stiffness_ratio = 0 with friction_mu > 0 would remove friction");
+}
+
 TEST_F(SceneErrors, InconsistentCornerRange) {
   expect_error(edited("", "[dem.grains]\ncorners_min = 8\ncorners_max = 6"), "is below dem.grains.corners_min");
 }

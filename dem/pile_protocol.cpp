@@ -108,24 +108,28 @@ void check_run_length(const DemScene& scene, double time_step, const std::string
   s.precision(3);
   if (steps > max_run_steps || grain_steps > max_run_grain_steps) {
     s << source << ": this run would take at least " << steps << " time steps and " << grain_steps
-      << " grain-steps (" << d.shortest << " s of simulated time at dt = " << time_step << " s for " << scene.grain_count
+      << " grain-steps if all grains are poured (" << d.shortest << " s of simulated time at dt = " << time_step << " s for " << scene.grain_count
       << " grains); expected at most " << max_run_steps << " steps and " << max_run_grain_steps
       << " grain-steps, which already take days to a year. Check dem.pour.rate_grains_per_s (" << scene.pour.rate
       << " grains/s), dem.settle.min_time_s, dem.relax.ramp_time_s and the time step (dem.integrator.time_step_s, "
          "or the grain size, density and stiffness that set its bound)";
     throw InputError(s.str());
   }
+  // An interval below the step writes every step. Frames are two files each (grains and
+  // contacts); checkpoints rewrite one file, each write costing a copy of the world.
   const OutputSpec& o = scene.output;
-  for (const auto& [key, interval] : {std::pair<const char*, double>{"dem.output.frame_interval_s", o.frame_interval},
-                                      {"dem.output.checkpoint_interval_s", o.checkpoint_interval}}) {
-    // An interval below the step writes a file every step.
-    const double files = interval > 0.0 ? d.shortest / std::max(interval, time_step) : 0.0;
-    if (files > max_run_files) {
-      s << source << ": " << key << " = " << interval << " s would write at least " << files << " files over "
-        << d.shortest << " s of simulated time; expected at most " << max_run_files
-        << ": a longer interval, or 0 for none";
-      throw InputError(s.str());
-    }
+  const auto writes = [&](double interval) { return interval > 0.0 ? d.shortest / std::max(interval, time_step) : 0.0; };
+  if (writes(o.frame_interval) > max_run_files) {
+    s << source << ": dem.output.frame_interval_s = " << o.frame_interval << " s would write at least "
+      << writes(o.frame_interval) << " frames (twice as many files) over " << d.shortest
+      << " s of simulated time; expected at most " << max_run_files << ": a longer interval, or 0 for the last only";
+    throw InputError(s.str());
+  }
+  if (writes(o.checkpoint_interval) > max_run_files) {
+    s << source << ": dem.output.checkpoint_interval_s = " << o.checkpoint_interval << " s would write a checkpoint "
+      << "at least " << writes(o.checkpoint_interval) << " times over " << d.shortest
+      << " s of simulated time; expected at most " << max_run_files << ": a longer interval, or 0 for none";
+    throw InputError(s.str());
   }
 }
 

@@ -30,12 +30,13 @@ struct RunDuration {
 RunDuration run_duration(const DemScene& scene);
 
 /// Refuses, with an InputError naming `source` and the keys, a run that no computer would
-/// finish: more time steps or grain-steps than the limits below even at its shortest, or more
-/// frames or checkpoints than a directory can usefully hold.
+/// finish: more time steps or grain-steps than the limits below even at its shortest (if every
+/// grain is poured; a stalled pour ends sooner), or more frames or checkpoint writes than a run
+/// can usefully make.
 void check_run_length(const DemScene& scene, double time_step, const std::string& source);
 constexpr double max_run_steps = 1e12;         ///< days even for a lone grain
 constexpr double max_run_grain_steps = 1e14;   ///< about a year at 4e6 grain-steps/s (2 cores)
-constexpr double max_run_files = 1e4;          ///< frames, or checkpoints
+constexpr double max_run_files = 1e4;          ///< frames, or checkpoint writes
 
 /// Everything besides the world that a restart needs to continue exactly.
 struct ProtocolState {

@@ -103,12 +103,16 @@ void print_progress(const PileProtocol& p, double steps_per_s, double grain_step
                phase_name(s.phase), t, s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(), steps_per_s,
                grain_steps_per_s);
   if (s.phase != Phase::pour)
-    std::fprintf(stderr, "  KE/grain %.2e J (settles below %.2e J),", p.kinetic_energy_per_grain(),
+    std::fprintf(stderr, "  KE/grain %.2e J (settles below %.2e J)", p.kinetic_energy_per_grain(),
                  scene.settle.kinetic_energy_per_grain);
   if (grain_steps_per_s > 0) {
+    // While pouring, the estimate assumes grains go in on schedule (a blocked outlet delays
+    // them); after it, the settling limits make it an upper bound.
     if (s.phase == Phase::pour)
-      std::fprintf(stderr, "  pour ends in ~%s,", duration_text(pour_grain_steps / grain_steps_per_s).c_str());
-    std::fprintf(stderr, " run ends within ~%s", duration_text(run_grain_steps / grain_steps_per_s).c_str());
+      std::fprintf(stderr, "  pour ends in ~%s, run in ~%s", duration_text(pour_grain_steps / grain_steps_per_s).c_str(),
+                   duration_text(run_grain_steps / grain_steps_per_s).c_str());
+    else
+      std::fprintf(stderr, ", run ends within ~%s", duration_text(run_grain_steps / grain_steps_per_s).c_str());
   }
   std::fprintf(stderr, "\n");
 }

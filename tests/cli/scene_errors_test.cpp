@@ -128,7 +128,8 @@ TEST_F(SceneErrors, GrainsWhoseInertiaUnderflowsAreRefused) {
 }
 
 TEST_F(SceneErrors, GrainsWhoseMassUnderflowsAreRefused) {
-  expect_error(edited("grain_count = 40", "grain_count = 40\nareal_density_kg_per_m2 = 1e-300"),
+  // A grain of 3.6e-5 m^2 at 1e-305 kg/m^2: 3.6e-310 kg, below the smallest normal double.
+  expect_error(edited("grain_count = 40", "grain_count = 40\nareal_density_kg_per_m2 = 1e-305"),
                "give grains whose mass, moment of inertia or stable time step");
 }
 

@@ -191,10 +191,14 @@ void SceneReader::reject_unknown(const std::vector<std::string>& tables_to_check
   }
   std::vector<std::string> leaves, empty_tables;
   collect_leaves(root_, "", leaves, empty_tables);
+  // Whether this stage checks the top-level table a dotted path lies in.
+  const auto checked_here = [&](const std::string& path) {
+    const std::string top = path.substr(0, path.find('.'));
+    for (const auto& t : tables_to_check)
+      if (t == top) return true;
+    return false;
+  };
   for (const auto& table : empty_tables) {
-    const std::string top = table.substr(0, table.find('.'));
-    bool checked = false;
-    for (const auto& t : tables_to_check) checked = checked || (t == top);
     // A table is known if any key was asked for inside it; list the known tables beside it.
     bool known = false;
     std::set<std::string> siblings;
@@ -206,17 +210,14 @@ void SceneReader::reject_unknown(const std::vector<std::string>& tables_to_check
         if (rest.find('.') != std::string::npos) siblings.insert(parent + "." + rest.substr(0, rest.find('.')));
       }
     }
-    if (!checked || known) continue;
+    if (!checked_here(table) || known) continue;
     std::string list;
     for (const auto& t : siblings) list += (list.empty() ? "" : "], [") + t;
     throw InputError(source_ + ": unknown table [" + table + "]" +
                      (list.empty() ? std::string() : " (known tables: [" + list + "])"));
   }
   for (const auto& leaf : leaves) {
-    const std::string top = leaf.substr(0, leaf.find('.'));
-    bool checked = false;
-    for (const auto& t : tables_to_check) checked = checked || (t == top);
-    if (!checked || asked_.count(leaf)) continue;
+    if (!checked_here(leaf) || asked_.count(leaf)) continue;
     // Name the keys that would have been accepted in the same table, to make typos obvious.
     const std::string table = leaf.substr(0, leaf.rfind('.'));
     std::string known;

@@ -98,6 +98,21 @@ RunDuration run_duration(const DemScene& scene) {
   return {pour + settlings * st.min_time + ramp, pour + settlings * st.max_time + ramp};
 }
 
+double longest_time_after_pour(const DemScene& scene, const ProtocolState& state, double t) {
+  const double settle = scene.settle.max_time, ramp = scene.relax.enabled ? scene.relax.ramp_time : 0.0;
+  const double relax_settle = scene.relax.enabled ? settle : 0.0;
+  const double in_phase = t - state.phase_start;
+  double left = 0.0;
+  switch (state.phase) {
+    case Phase::pour: left = settle + ramp + relax_settle; break;
+    case Phase::settle: left = settle - in_phase + ramp + relax_settle; break;
+    case Phase::ramp: left = ramp - in_phase + settle; break;
+    case Phase::relax_settle: left = settle - in_phase; break;
+    case Phase::done: break;
+  }
+  return std::max(left, 0.0);
+}
+
 void check_run_length(const DemScene& scene, double time_step, const std::string& source) {
   const RunDuration d = run_duration(scene);
   const double n = scene.grain_count, steps = d.shortest / time_step;

@@ -50,6 +50,11 @@ struct ProtocolState {
   std::array<std::uint64_t, 4> rng{};
 };
 
+/// The longest simulated time the phases after the pour can still take at time t [s]: the
+/// time limits of each settling and the gravity ramp ahead, counted from the current phase's
+/// start; 0 once done.
+double longest_time_after_pour(const DemScene& scene, const ProtocolState& state, double t);
+
 class PileProtocol {
  public:
   /// Builds the container and draws every grain's shape from the scene's seed; throws

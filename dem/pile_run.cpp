@@ -81,24 +81,10 @@ void print_progress(const PileProtocol& p, double steps_per_s, double grain_step
   // its end, (N^2 - n^2) / (2 rate), over the step. What follows is bounded by the phases' time
   // limits (each settling may end sooner), with every grain stepping.
   const double n = s.poured, total = scene.grain_count;
-  const RunDuration whole = run_duration(scene);
-  const double pour_end = (total - 1) / scene.pour.rate;
-  double pour_grain_steps = 0.0, after_pour = 0.0;
-  if (s.phase == Phase::pour) {
-    pour_grain_steps = (total * total - n * n) / (2.0 * scene.pour.rate) / dt;
-    after_pour = whole.longest - pour_end;
-  } else if (s.phase != Phase::done) {
-    // The time limits still ahead, counted from the start of the current phase.
-    const double in_phase = t - s.phase_start, settle = scene.settle.max_time;
-    const double ramp = scene.relax.enabled ? scene.relax.ramp_time : 0.0;
-    switch (s.phase) {
-      case Phase::settle: after_pour = settle - in_phase + ramp + (scene.relax.enabled ? settle : 0.0); break;
-      case Phase::ramp: after_pour = ramp - in_phase + settle; break;
-      default: after_pour = settle - in_phase; break;
-    }
-  }
+  const double pour_grain_steps =
+      s.phase == Phase::pour ? (total * total - n * n) / (2.0 * scene.pour.rate) / dt : 0.0;
   const double stepping = s.phase == Phase::pour ? total : static_cast<double>(p.world().active_grains().size());
-  const double run_grain_steps = pour_grain_steps + stepping * std::max(after_pour, 0.0) / dt;
+  const double run_grain_steps = pour_grain_steps + stepping * longest_time_after_pour(scene, s, t) / dt;
   std::fprintf(stderr, "[%-12s] t = %8.4f s  grains %d/%d (lost %d)  KE %.3e J  %.3g steps/s  %.3g grain-steps/s",
                phase_name(s.phase), t, s.poured, scene.grain_count, s.lost, p.world().kinetic_energy(), steps_per_s,
                grain_steps_per_s);

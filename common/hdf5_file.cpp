@@ -40,6 +40,12 @@ hid_t untimed(hid_t property_class) {
   return plist;
 }
 
+bool is_group(hid_t file, const std::string& path) {
+  if (H5Oexists_by_name(file, path.c_str(), H5P_DEFAULT) <= 0) return false;  // e.g. a dangling soft link
+  const Handle group(H5Gopen2(file, path.c_str(), H5P_DEFAULT));
+  return group.id >= 0;
+}
+
 // Creates every missing group along `path` ("/a/b/c" makes /a, /a/b and /a/b/c) with untimed
 // properties; HDF5's own intermediate-group creation would use the timed defaults.
 void create_groups(hid_t file, const std::string& path, const std::string& file_path) {
@@ -47,7 +53,11 @@ void create_groups(hid_t file, const std::string& path, const std::string& file_
   while (end != std::string::npos) {
     end = path.find('/', end + 1);
     const std::string prefix = path.substr(0, end);
-    if (prefix.empty() || prefix == "/" || H5Lexists(file, prefix.c_str(), H5P_DEFAULT) > 0) continue;
+    if (prefix.empty() || prefix == "/") continue;
+    if (H5Lexists(file, prefix.c_str(), H5P_DEFAULT) > 0) {
+      if (is_group(file, prefix)) continue;
+      throw InputError(file_path + ": " + prefix + " exists and is not a group, so nothing can be written below it");
+    }
     Handle gcpl(untimed(H5P_GROUP_CREATE));
     Handle g(H5Gcreate2(file, prefix.c_str(), H5P_DEFAULT, gcpl.id, H5P_DEFAULT));
     if (g.id < 0) throw InputError(file_path + ": " + prefix + ": cannot create group");

@@ -38,3 +38,24 @@ TEST(H5File, StringAttributesOfFixedAndVariableLength) {
   EXPECT_EQ(f.attribute_string("/", "variable"), "edited with h5py");
   std::filesystem::remove(path);
 }
+
+// A dataset in the way of a path is named in the error, rather than the group behind it that
+// could not be created.
+TEST(H5File, ADatasetWhereAGroupMustGoIsNamed) {
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("pilelab_h5_in_the_way_" + std::to_string(::getpid()) + ".h5")).string();
+  H5File f = H5File::create(path);
+  f.write("/snapshots/settled", std::vector<double>{1.0, 2.0});
+  try {
+    f.write("/snapshots/settled/x", std::vector<double>{3.0});
+    ADD_FAILURE() << "writing below a dataset was accepted";
+  } catch (const std::exception& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find("/snapshots/settled exists and is not a group"), std::string::npos) << message;
+  }
+  f.write("/snapshots/relaxed/x", std::vector<double>{4.0});  // an existing group still takes new members
+  EXPECT_EQ(f.read_doubles("/snapshots/relaxed/x"), std::vector<double>{4.0});
+  f.close();
+  std::filesystem::remove(path);
+}

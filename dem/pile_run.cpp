@@ -167,6 +167,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["apex_x_m"] = shape.apex_x;
   r["repose_angle_left_deg"] = shape.repose_left_deg;
   r["repose_angle_right_deg"] = shape.repose_right_deg;
+  r["repose_angle_fit_se_deg"] = {shape.repose_left_se_deg, shape.repose_right_se_deg};
   r["repose_fit_points"] = {shape.left_points, shape.right_points};
   r["simulated_time_s"] = w.time();
   r["steps"] = w.steps();

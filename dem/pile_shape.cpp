@@ -9,8 +9,14 @@
 namespace pilelab::dem {
 
 namespace {
-// Least-squares slope of y against x.
-double fitted_slope(const std::vector<Vec2>& pts) {
+// The least-squares line y = a + b x through the surface points: its slope b and the slope's
+// standard error sqrt(s^2 / Sxx), s^2 = sum of squared residuals / (n - 2), the usual estimate
+// when the points scatter independently about the line (needs n >= 3).
+struct LineFit {
+  double slope, slope_standard_error;
+};
+
+LineFit fit_line(const std::vector<Vec2>& pts) {
   double sx = 0, sy = 0;
   for (const Vec2& p : pts) {
     sx += p.x();
@@ -22,7 +28,25 @@ double fitted_slope(const std::vector<Vec2>& pts) {
     sxx += (p.x() - mx) * (p.x() - mx);
     sxy += (p.x() - mx) * (p.y() - my);
   }
-  return sxy / sxx;
+  const double slope = sxy / sxx;
+  double squared_residuals = 0;
+  for (const Vec2& p : pts) {
+    const double r = p.y() - my - slope * (p.x() - mx);
+    squared_residuals += r * r;
+  }
+  return {slope, std::sqrt(squared_residuals / (pts.size() - 2) / sxx)};
+}
+
+// The flank's angle atan(|b|) and its standard error by the delta method,
+// d(atan b)/db = 1 / (1 + b^2), both in degrees; NaN for fewer than 3 points.
+void flank_angle(const std::vector<Vec2>& pts, double& angle_deg, double& standard_error_deg) {
+  if (pts.size() < 3) {
+    angle_deg = standard_error_deg = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  const LineFit fit = fit_line(pts);
+  angle_deg = portable_atan(std::abs(fit.slope)) * 180.0 / M_PI;
+  standard_error_deg = fit.slope_standard_error / (1.0 + fit.slope * fit.slope) * 180.0 / M_PI;
 }
 }  // namespace
 
@@ -30,7 +54,8 @@ PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_
   PileShape shape;
   const std::size_t n = snapshot.grain_count();
   if (n == 0) {
-    shape.repose_left_deg = shape.repose_right_deg = std::numeric_limits<double>::quiet_NaN();
+    flank_angle({}, shape.repose_left_deg, shape.repose_left_se_deg);
+    flank_angle({}, shape.repose_right_deg, shape.repose_right_se_deg);
     return shape;
   }
   double xmin = INFINITY, xmax = -INFINITY;
@@ -63,11 +88,10 @@ PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_
     if (s.y() < 0.2 * shape.height || s.y() > 0.8 * shape.height) continue;
     (s.x() < shape.apex_x ? left : right).push_back(s);
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   shape.left_points = static_cast<int>(left.size());
   shape.right_points = static_cast<int>(right.size());
-  shape.repose_left_deg = left.size() >= 3 ? portable_atan(std::abs(fitted_slope(left))) * 180.0 / M_PI : nan;
-  shape.repose_right_deg = right.size() >= 3 ? portable_atan(std::abs(fitted_slope(right))) * 180.0 / M_PI : nan;
+  flank_angle(left, shape.repose_left_deg, shape.repose_left_se_deg);
+  flank_angle(right, shape.repose_right_deg, shape.repose_right_se_deg);
   return shape;
 }
 

@@ -19,6 +19,9 @@ struct PileShape {
   double apex_x = 0.0;          ///< [m]
   double repose_left_deg = 0.0;   ///< NaN when not measurable
   double repose_right_deg = 0.0;  ///< NaN when not measurable
+  /// Standard errors of the two angles from the scatter of the surface about each fitted line
+  /// [degree]: how well one pile's flank is measured, not how much flanks vary from pile to pile.
+  double repose_left_se_deg = 0.0, repose_right_se_deg = 0.0;
   int left_points = 0, right_points = 0;  ///< bins used by each fit
   std::vector<Vec2> surface;    ///< (bin centre, surface height) [m]
 };

@@ -14,6 +14,12 @@ using namespace pilelab::dem;
 namespace {
 constexpr double deg = M_PI / 180.0;
 
+// A resting disc of radius r whose top is at (x, top).
+void place_disc(World& w, double r, double x, double top) {
+  const int id = w.add_grain(make_disc(r), 5000.0);
+  w.activate(id, {x, top - r}, 0.0, {0, 0}, 0.0);
+}
+
 // Discs of radius r resting with their tops on the surface y = h - tan(left) |x| (x < 0) and
 // y = h - tan(right) x (x > 0), at 1 mm spacing, down to the plate.
 Snapshot triangle_pile(World& w, double left_deg, double right_deg, double height) {
@@ -21,9 +27,7 @@ Snapshot triangle_pile(World& w, double left_deg, double right_deg, double heigh
   const double x_left = -height / std::tan(left_deg * deg), x_right = height / std::tan(right_deg * deg);
   for (double x = x_left + 0.0005; x < x_right; x += 0.001) {
     const double top = x < 0 ? height + std::tan(left_deg * deg) * x : height - std::tan(right_deg * deg) * x;
-    if (top < 2 * r) continue;
-    const int id = w.add_grain(make_disc(r), 5000.0);
-    w.activate(id, {x, top - r}, 0.0, {0, 0}, 0.0);
+    if (top >= 2 * r) place_disc(w, r, x, top);
   }
   return take_snapshot(w, "settled");
 }
@@ -44,8 +48,7 @@ TEST(PileShape, RecoversTheFlankAnglesOfAnExactTriangle) {
 
 TEST(PileShape, ASideWithoutEnoughSurfaceHasNoAngle) {
   World w(WorldSettings{});
-  const int id = w.add_grain(make_disc(0.002), 5000.0);
-  w.activate(id, {0.0, 0.002}, 0.0, {0, 0}, 0.0);
+  place_disc(w, 0.002, 0.0, 0.004);
   const PileShape p = measure_pile(w, take_snapshot(w, "settled"), 0.01);
   EXPECT_TRUE(std::isnan(p.repose_left_deg));
   EXPECT_TRUE(std::isnan(p.repose_right_deg));
@@ -67,15 +70,11 @@ TEST(PileShape, TheFitsStandardErrorMatchesTheSpreadOfTheAngle) {
     // apex disc stands clear above the rest, so the apex bin and the height are fixed.
     // The bins start at the leftmost grain: a low grain half a bin left of the first bin centre.
     const int half = static_cast<int>(height / tan_slope / bin);
-    auto place = [&](double x, double top) {
-      const int id = w.add_grain(make_disc(r), 5000.0);
-      w.activate(id, {x, top - r}, 0.0, {0, 0}, 0.0);
-    };
-    place(-(half + 1.5) * bin, 2 * r);
+    place_disc(w, r, -(half + 1.5) * bin, 2 * r);
     for (int b = -half; b <= half; ++b) {
       const double x = b * bin;  // a bin centre
       const double top = b == 0 ? height : height - tan_slope * std::abs(x) + jitter(random);
-      if (b == 0 || top < height - 4 * noise) place(x, top);  // the apex stays the highest bin
+      if (b == 0 || top < height - 4 * noise) place_disc(w, r, x, top);  // the apex stays the highest bin
     }
     const PileShape p = measure_pile(w, take_snapshot(w, "settled"), bin);
     ASSERT_TRUE(std::isfinite(p.repose_left_deg) && std::isfinite(p.repose_left_se_deg));

@@ -119,8 +119,9 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   std::vector<std::string> warnings;
   char text[512];
   if (p.state().lost > 0) {
-    std::snprintf(text, sizeof text, "%d grains fell off the plate; a wider dem.container.plate_width_m keeps them",
-                  p.state().lost);
+    const int lost = p.state().lost;
+    std::snprintf(text, sizeof text, "%d grain%s fell off the plate; a wider dem.container.plate_width_m keeps them",
+                  lost, lost == 1 ? "" : "s");
     warnings.emplace_back(text);
   }
   if (p.state().pour_stalled) {

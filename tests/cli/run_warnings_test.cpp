@@ -95,3 +95,19 @@ TEST_F(RunWarnings, FullPourGivesNoStallWarning) {
   EXPECT_EQ(report["poured"].get<int>(), 40);
   for (const auto& w : report["warnings"]) EXPECT_EQ(w.get<std::string>().find("the pour stopped"), std::string::npos);
 }
+
+TEST_F(RunWarnings, GrainsOffThePlateAreCountedAndNamed) {
+  // The outlet 2 cm inside the plate's edge: grains that land on the outer side roll off it.
+  std::string text = tiny_scene();
+  text.replace(text.find("outlet_width_m = 0.02"), 21, "outlet_width_m = 0.02\nfunnel_x_m = 0.13");
+  const std::string scene = write_scene("edge.toml", text);
+  const auto r = run("dem " + scene + " -o " + path("out") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto report = dem_report(path("out"));
+  const int lost = report["lost"].get<int>();
+  ASSERT_GT(lost, 0);
+  // Every grain poured is either on the plate at the end or counted as lost.
+  EXPECT_EQ(report["particles"].get<int>() + lost, report["poured"].get<int>());
+  const std::string expected = std::to_string(lost) + (lost == 1 ? " grain fell" : " grains fell") + " off the plate";
+  EXPECT_NE(r.output.find("warning: " + expected), std::string::npos) << r.output;
+}

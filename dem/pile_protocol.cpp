@@ -161,6 +161,14 @@ PileProtocol::PileProtocol(const DemScene& scene, const std::string& source)
   state_.rng = rng_.state();
 }
 
+TimeStepBound PileProtocol::time_step_bound_at_deepest_overlap() const {
+  std::vector<Shape> grains;
+  grains.reserve(world_.body_count() - first_grain_);
+  for (int b = first_grain_; b < world_.body_count(); ++b) grains.push_back(world_.shape(b));
+  return stable_time_step_at_depth(grains, scene_.areal_density, scene_.contact, scene_.scheme,
+                                   world_.deepest_overlap().fraction);
+}
+
 void PileProtocol::build_container() {
   const ContainerSpec& c = scene_.container;
   auto rectangle = [](double w, double h) {

@@ -69,6 +69,9 @@ class PileProtocol {
   const World& world() const { return world_; }
   const DemScene& scene() const { return scene_; }
   const TimeStepBound& time_step_bound() const { return bound_; }
+  /// The bound again for contacts as deep as the deepest overlap the run has reached
+  /// (stable_time_step_at_depth): whether the step stayed stable for the contacts it made.
+  TimeStepBound time_step_bound_at_deepest_overlap() const;
   const ProtocolState& state() const { return state_; }
   const std::vector<Snapshot>& snapshots() const { return snapshots_; }
   /// Where the walls were at each snapshot (the funnel may have moved since).

@@ -131,14 +131,18 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
                   p.state().poured, p.scene().grain_count);
     warnings.emplace_back(text);
   }
+  // The default step assumes overlaps up to max_overlap_depth_fraction; what matters is whether
+  // the step is stable for the depth the run actually reached.
   const DeepestOverlap& deepest = p.world().deepest_overlap();
-  if (deepest.fraction > max_overlap_depth_fraction) {
+  const double dt = p.world().settings().time_step;
+  const double limit_at_depth = report["stable_time_step_at_deepest_overlap_s"].get<double>();
+  if (dt > limit_at_depth) {
     std::snprintf(text, sizeof text,
                   "an overlap reached %.2f of a grain's inner radius, between %s and %s at t = %.4g s, x = %.4g m, "
-                  "y = %.4g m; the stable time step assumes at most %.2f, so dem.integrator.time_step_s may need "
-                  "to be smaller",
-                  deepest.fraction, p.body_name(deepest.a).c_str(), p.body_name(deepest.b).c_str(), deepest.time, deepest.point.x(), deepest.point.y(),
-                  max_overlap_depth_fraction);
+                  "y = %.4g m; contacts that deep are stable only below dt = %.3g s, and this run stepped %.3g s: "
+                  "a smaller dem.integrator.time_step_fraction (or time_step_s) keeps them stable",
+                  deepest.fraction, p.body_name(deepest.a).c_str(), p.body_name(deepest.b).c_str(), deepest.time,
+                  deepest.point.x(), deepest.point.y(), limit_at_depth, dt);
     warnings.emplace_back(text);
   }
   for (const auto& [name, info] : report["settling"].items())
@@ -184,6 +188,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["deepest_overlap_time_s"] = deepest.time;
   r["deepest_overlap_point_m"] = {deepest.point.x(), deepest.point.y()};
   r["deepest_overlap_bodies"] = {deepest.a, deepest.b};
+  r["stable_time_step_at_deepest_overlap_s"] = p.time_step_bound_at_deepest_overlap().stable_limit;
   r["integrator"] = scheme_name(scene.scheme);
   r["threads"] = threads;
   r["cores"] = std::thread::hardware_concurrency();

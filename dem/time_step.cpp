@@ -43,6 +43,7 @@ struct CornerChords {
   int i, j;  // j may exceed n: indices are taken mod n
   double max_depth;
   ChordWeight weight;
+  double lever_cap;  // 0: levers not counted; otherwise the inner radius
   double evaluate(double u, double w, HeaviestChord* out = nullptr) const {
     const int n = static_cast<int>(v.size());
     const Vec2 p = v[i % n] + u * (v[(i + 1) % n] - v[i % n]);
@@ -54,9 +55,13 @@ struct CornerChords {
     // The cut-off corners lie right of p -> q (the polygon is counter-clockwise).
     for (int k = i + 1; k <= j; ++k)
       if (cross(v[k % n] - p, t) > max_depth) return -1.0;
-    const double arm = std::abs(t.dot(0.5 * (p + q)));
-    const double result = weight(c, arm);
-    if (out) *out = {c, arm, result};
+    const Vec2 mid = 0.5 * (p + q);
+    const double arm = std::abs(t.dot(mid));
+    // A chord across corners may pass closer to the centroid than any edge: its lever, and so
+    // l, is then shorter than the inner radius (only when the search counts levers).
+    const double lever = lever_cap > 0.0 ? std::clamp(mid.norm(), 0.5 * lever_cap, lever_cap) : 0.0;
+    const double result = weight(c, arm) * (lever_cap > 0.0 ? lever_cap / lever : 1.0);
+    if (out) *out = {c, arm, result, lever};
     return result;
   }
 };
@@ -83,7 +88,7 @@ double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history) {
   return 0.0;
 }
 
-HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth) {
+HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth, bool count_levers) {
   const std::vector<Vec2>& v = polygon.vertices;
   const int n = static_cast<int>(v.size());
   const ChordWeight weight{1.0 / mass, 1.0 / inertia};
@@ -93,12 +98,14 @@ HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, 
     const Vec2 t = (q - p).normalized();
     heaviest_chord_along_edge(t.dot(p), t.dot(q), weight, best);
   }
+  // Chords along an edge lie at least the inner radius from the centroid: lever factor 1.
+  if (count_levers) best.lever = polygon.inner_radius;
   if (max_depth <= 0.0) return best;
   // Across corners: a grid over (u, w), then three rounds of a finer grid around its best point.
   constexpr int coarse = 16, fine = 4, rounds = 3;
   for (int i = 0; i < n; ++i)
     for (int j = i + 1; j < i + n; ++j) {
-      const CornerChords chords{v, i, j, max_depth, weight};
+      const CornerChords chords{v, i, j, max_depth, weight, count_levers ? polygon.inner_radius : 0.0};
       double best_here = -1.0, u_best = 0.0, w_best = 0.0;
       for (int a = 0; a <= coarse; ++a)
         for (int b = 0; b <= coarse; ++b) {
@@ -125,8 +132,21 @@ HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, 
   return best;
 }
 
-TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
-                               const ContactParameters& contact, Scheme scheme) {
+namespace {
+// A disc cut f r deep: chord 2 r sqrt(2 f - f^2) through the centre's line (arm 0), lever
+// r (1 - f), floored at r/2 as the contact law floors it; the chord through the centre beyond.
+double disc_weight_at_depth(double r, double m, double f) {
+  const double depth = std::min(f, 1.0);
+  const double chord = 2.0 * r * std::sqrt(depth * (2.0 - depth));
+  const double lever = std::max(1.0 - depth, 0.5) * r;
+  return chord / m * r / lever;
+}
+
+// The bound over all grains for chords cutting up to depth_fraction of the inner radius; with
+// count_levers, each chord acts at its own lever (the distance of its midpoint from the
+// centroid, at most the inner radius), otherwise at the inner radius.
+TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, const ContactParameters& contact,
+                        Scheme scheme, double depth_fraction, bool count_levers) {
   TimeStepBound b;
   for (std::size_t i = 0; i < grains.size(); ++i) {
     const Shape& s = grains[i];
@@ -142,10 +162,12 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
       }
     };
     // Normal mode: the heaviest chord, with l at its smallest.
+    // l is proportional to the lever for twins (both contact lengths are harmonic means), so a
+    // chord with a shorter lever counts as a heavier one: w r_in / lever, with l at r_in.
     const double l = contact_length(contact, s.inner_radius, s.inner_radius);
     const double w = s.kind == ShapeKind::disc
-                         ? 2.0 * s.radius / m  // through the centre
-                         : heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius).weight;
+                         ? (count_levers ? disc_weight_at_depth(s.radius, m, depth_fraction) : 2.0 * s.radius / m)
+                         : heaviest_chord(s, m, inertia, depth_fraction * s.inner_radius, count_levers).weight;
     const double omega = std::sqrt(2.0 * contact.youngs_modulus * w / l);
     const double zeta = 0.5 * contact.damping_gamma * std::sqrt(w * m / l);
     record(stability_limit_omega_dt(scheme, zeta) / omega, omega, zeta);
@@ -158,6 +180,17 @@ TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_de
     }
   }
   return b;
+}
+}  // namespace
+
+TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
+                               const ContactParameters& contact, Scheme scheme) {
+  return bound_for(grains, areal_density, contact, scheme, max_overlap_depth_fraction, false);
+}
+
+TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
+                                        const ContactParameters& contact, Scheme scheme, double depth_fraction) {
+  return bound_for(grains, areal_density, contact, scheme, depth_fraction, true);
 }
 
 }  // namespace pilelab::dem

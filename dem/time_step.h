@@ -50,6 +50,16 @@ struct TimeStepBound {
 TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
                                const ContactParameters& contact, Scheme scheme);
 
+/// The same bound for contacts as deep as depth_fraction of the inner radius, with both effects
+/// of depth: chords that cut that deep, and each chord at its own lever, the distance of its
+/// midpoint from the centroid. A chord across a corner can pass closer to the centroid than any
+/// edge, so its l is shorter than stable_time_step assumes (levers at the inner radius; floored at
+/// half of it, as the contact law floors them). Discs: the chord cut f r deep, at lever r (1 - f).
+/// A run evaluates it for the deepest overlap it reached (World::deepest_overlap): whether its
+/// step stayed stable for the contacts it actually made.
+TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
+                                        const ContactParameters& contact, Scheme scheme, double depth_fraction);
+
 /// The largest omega_t dt at which the tangential spring of A.2 (damping ratio 1/2) stays
 /// stable under the scheme, for either way of storing its history.
 double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history);
@@ -58,11 +68,15 @@ double tangential_limit_omega_dt(Scheme scheme, TangentialHistory history);
 /// chords that cut off no more than max_depth [m] of it (see above). Chords along one edge are
 /// maximised exactly; chords across corners are searched on a grid refined around its best
 /// point, which finds the maximum to within a fraction of a per cent.
+/// With count_levers, a chord whose midpoint lies nearer the centroid than the inner radius
+/// (lever < r_in) weighs r_in / lever times more, since l shrinks with the lever.
 struct HeaviestChord {
   double chord = 0.0;   ///< c [m]
   double arm = 0.0;     ///< a [m]
-  double weight = 0.0;  ///< c (1/m + a^2/I) [m/kg]
+  double weight = 0.0;  ///< c (1/m + a^2/I) [m/kg], times r_in / lever with count_levers
+  double lever = 0.0;   ///< the lever it was counted at [m] (count_levers only)
 };
-HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth);
+HeaviestChord heaviest_chord(const Shape& polygon, double mass, double inertia, double max_depth,
+                             bool count_levers = false);
 
 }  // namespace pilelab::dem

@@ -1,5 +1,5 @@
-// A finished run reports what did not stop it but should be known: here, an overlap deeper than
-// the stable time step assumes (time_step.h), with when and where it happened.
+// A finished run reports what did not stop it but should be known: an overlap too deep for the
+// step it ran at (time_step.h), with when and where it happened; a stalled pour; lost grains.
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.h"
@@ -27,13 +27,16 @@ TEST_F(RunWarnings, ShallowContactsGiveNoOverlapWarning) {
   const auto report = dem_report(path("out"));
   EXPECT_GT(report["deepest_overlap_fraction"].get<double>(), 0.0);
   EXPECT_LT(report["deepest_overlap_fraction"].get<double>(), 0.25);
+  // Contacts that shallow are stable at the default step, 0.8 of the bound for a quarter radius.
+  EXPECT_GT(report["stable_time_step_at_deepest_overlap_s"].get<double>(), report["time_step_s"].get<double>());
   EXPECT_FALSE(warns_of_deep_overlap(report));
 }
 
 TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
   // Contacts 100x softer than the paper's, and grains dropped from 30 cm: a grain of mass m
   // landing at v sinks about v sqrt(m / E) = 2.4 m/s * sqrt(0.18 kg / 1e5 N/m) = 3 mm, about
-  // its inner radius, far beyond the quarter the time-step bound assumes.
+  // its inner radius, far beyond the quarter the time-step bound assumes. Levers shortened to
+  // half and chords across the grain make such contacts stable only well below the default step.
   std::string text = tiny_scene();
   text.replace(text.find("funnel_height_m = 0.06"), 22, "funnel_height_m = 0.30");
   text.replace(text.find("[dem.integrator]"), 16, "[dem.contact]\nyoungs_modulus_N_per_m = 1e5\n\n[dem.integrator]");
@@ -43,6 +46,9 @@ TEST_F(RunWarnings, DeepOverlapIsReportedWithWhenAndWhere) {
   const auto report = dem_report(path("out"));
   const double fraction = report["deepest_overlap_fraction"].get<double>();
   EXPECT_GT(fraction, 0.25);
+  const double dt = report["time_step_s"].get<double>();
+  const double limit = report["stable_time_step_at_deepest_overlap_s"].get<double>();
+  EXPECT_LT(limit, dt);
   EXPECT_TRUE(warns_of_deep_overlap(report));
   // --quiet silences the progress lines, not the warnings.
   EXPECT_NE(r.output.find("warning: an overlap reached"), std::string::npos) << r.output;

@@ -1,6 +1,7 @@
 // The stable time step: its closed form where every term is known, the heaviest chord against a
 // brute-force search over all chords, and the tangential spring's limits against the contact law
 // itself integrated by each scheme.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -20,8 +21,10 @@ double expected_normal_limit(Scheme scheme, const ContactParameters& c, double w
 }
 
 // The heaviest chord by brute force: both ends anywhere on the boundary (n points per edge), the
-// part cut off no deeper than max_depth.
-double brute_force_heaviest_chord(const Shape& s, double m, double inertia, double max_depth, int per_edge) {
+// part cut off no deeper than max_depth; with count_levers, times r_in / lever (lever the
+// midpoint's distance from the centroid, clamped to [r_in/2, r_in]).
+double brute_force_heaviest_chord(const Shape& s, double m, double inertia, double max_depth, int per_edge,
+                                  bool count_levers = false) {
   std::vector<Vec2> boundary;
   std::vector<int> edge_of;
   const int n = static_cast<int>(s.vertices.size());
@@ -45,7 +48,8 @@ double brute_force_heaviest_chord(const Shape& s, double m, double inertia, doub
       for (int e = edge_of[a] + 1; e <= last; ++e) depth = std::max(depth, cross(s.vertices[e % n] - p, t));
       if (depth > max_depth) continue;
       const double arm = t.dot(0.5 * (p + q));
-      best = std::max(best, c * (1.0 / m + arm * arm / inertia));
+      const double r = s.inner_radius, lever = std::clamp((0.5 * (p + q)).norm(), 0.5 * r, r);
+      best = std::max(best, c * (1.0 / m + arm * arm / inertia) * (count_levers ? r / lever : 1.0));
     }
   return best;
 }
@@ -59,6 +63,55 @@ TEST(TimeStep, DiscMatchesTheClosedForm) {
     const double expected = expected_normal_limit(scheme, c, 2.0 * r / m, r / 2, m);
     EXPECT_NEAR(stable_time_step({make_disc(r)}, rho, c, scheme).stable_limit, expected, 1e-12 * expected)
         << scheme_name(scheme);
+  }
+}
+
+TEST(TimeStep, ADeepContactOnADiscHasItsChordAndLever) {
+  // A disc cut f r deep has the chord 2 r sqrt(f (2 - f)) through its centre's line and acts at
+  // the lever r (1 - f), floored at r/2 as the contact law floors levers: l = lever / 2.
+  const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
+  for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog})
+    for (double f : {0.1, 0.25, 0.4, 0.8}) {
+      ContactParameters c;
+      c.friction_mu = 0.0;  // the normal mode alone
+      const double chord = 2.0 * r * std::sqrt(f * (2.0 - f)), lever = std::max(1.0 - f, 0.5) * r;
+      const double expected = expected_normal_limit(scheme, c, chord / m, contact_length(c, lever, lever), m);
+      EXPECT_NEAR(stable_time_step_at_depth({make_disc(r)}, rho, c, scheme, f).stable_limit, expected, 1e-12 * expected)
+          << scheme_name(scheme) << ", depth " << f;
+    }
+}
+
+TEST(TimeStep, DeeperContactsAreStableOnlyAtSmallerSteps) {
+  // Each chord counted at its own lever, against the brute-force search: a chord across corners
+  // may pass nearer the centroid than the inner radius, which shortens l. Undamped and
+  // frictionless, the limit is L / omega with omega^2 = 2 E w / l, so the bound at depth f is
+  // the default bound times sqrt(w(0.25) / w_levers(f)) exactly. With the paper's damping and
+  // friction, deeper contacts never allow a larger step.
+  const Shape s = make_polygon({{0.004, 0.0}, {0.002, 0.003}, {-0.003, 0.0025}, {-0.004, -0.001}, {0.0, -0.003}});
+  const double rho = 5000.0, m = rho * s.area, inertia = rho * s.polar_moment;
+  ContactParameters plain;
+  plain.damping_gamma = 0.0;
+  plain.friction_mu = 0.0;
+  const double base = stable_time_step({s}, rho, plain, Scheme::verlet).stable_limit;
+  const double w_assumed = heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius).weight;
+  for (double f : {0.0, 0.1, 0.25, 0.4, 0.7}) {
+    const double depth = f * s.inner_radius;
+    const double w = heaviest_chord(s, m, inertia, depth, true).weight;
+    EXPECT_GE(w, heaviest_chord(s, m, inertia, depth).weight) << "a lever below r_in only stiffens, depth " << f;
+    const double brute = brute_force_heaviest_chord(s, m, inertia, depth, 1600, true);
+    EXPECT_NEAR(w, brute, 2e-3 * brute) << "depth " << f;
+    const double expected = base * std::sqrt(w_assumed / w);
+    EXPECT_NEAR(stable_time_step_at_depth({s}, rho, plain, Scheme::verlet, f).stable_limit, expected, 1e-12 * base)
+        << "depth " << f;
+  }
+  for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog}) {
+    ContactParameters paper;
+    double previous = stable_time_step_at_depth({s}, rho, paper, scheme, 0.0).stable_limit;
+    for (double f : {0.1, 0.25, 0.4, 0.7, 1.0}) {
+      const double limit = stable_time_step_at_depth({s}, rho, paper, scheme, f).stable_limit;
+      EXPECT_LE(limit, previous) << scheme_name(scheme) << ", depth " << f;
+      previous = limit;
+    }
   }
 }
 

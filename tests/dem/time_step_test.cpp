@@ -79,6 +79,11 @@ TEST(TimeStep, ADeepContactOnADiscHasItsChordAndLever) {
       EXPECT_NEAR(stable_time_step_at_depth({make_disc(r)}, rho, c, scheme, f).stable_limit, expected, 1e-12 * expected)
           << scheme_name(scheme) << ", depth " << f;
     }
+  // A disc barely touched has no chord, so no stiffness: without friction nothing limits the step,
+  // and the bound says so with infinity, not NaN.
+  ContactParameters frictionless;
+  frictionless.friction_mu = 0.0;
+  EXPECT_EQ(stable_time_step_at_depth({make_disc(r)}, rho, frictionless, Scheme::leapfrog, 0.0).stable_limit, INFINITY);
 }
 
 TEST(TimeStep, DeeperContactsAreStableOnlyAtSmallerSteps) {

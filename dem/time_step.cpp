@@ -142,11 +142,11 @@ double disc_weight_at_depth(double r, double m, double f) {
   return chord / m * r / lever;
 }
 
-// The bound over all grains for chords cutting up to depth_fraction of the inner radius; with
-// count_levers, each chord acts at its own lever (the distance of its midpoint from the
-// centroid, at most the inner radius), otherwise at the inner radius.
+// The bound over all grains for chords cutting up to depth_fraction of the inner radius, each
+// chord at its own lever (the distance of its midpoint from the centroid, at most the inner
+// radius).
 TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, const ContactParameters& contact,
-                        Scheme scheme, double depth_fraction, bool count_levers) {
+                        Scheme scheme, double depth_fraction) {
   TimeStepBound b;
   for (std::size_t i = 0; i < grains.size(); ++i) {
     const Shape& s = grains[i];
@@ -166,8 +166,8 @@ TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, 
     // chord with a shorter lever counts as a heavier one: w r_in / lever, with l at r_in.
     const double l = contact_length(contact, s.inner_radius, s.inner_radius);
     const double w = s.kind == ShapeKind::disc
-                         ? (count_levers ? disc_weight_at_depth(s.radius, m, depth_fraction) : 2.0 * s.radius / m)
-                         : heaviest_chord(s, m, inertia, depth_fraction * s.inner_radius, count_levers).weight;
+                         ? disc_weight_at_depth(s.radius, m, depth_fraction)
+                         : heaviest_chord(s, m, inertia, depth_fraction * s.inner_radius, true).weight;
     const double omega = std::sqrt(2.0 * contact.youngs_modulus * w / l);
     const double zeta = 0.5 * contact.damping_gamma * std::sqrt(w * m / l);
     record(stability_limit_omega_dt(scheme, zeta) / omega, omega, zeta);
@@ -183,14 +183,18 @@ TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, 
 }
 }  // namespace
 
+// The default bound is the lever-counted bound at the deepest overlap it admits: a chord that
+// cuts a quarter of the inner radius off an elongated grain can pass at 0.77 of the inner radius
+// from the centroid, and counting it at the inner radius (as this bound did until 2026-11-23)
+// left the default step above that contact's limit.
 TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
                                const ContactParameters& contact, Scheme scheme) {
-  return bound_for(grains, areal_density, contact, scheme, max_overlap_depth_fraction, false);
+  return stable_time_step_at_depth(grains, areal_density, contact, scheme, max_overlap_depth_fraction);
 }
 
 TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
                                         const ContactParameters& contact, Scheme scheme, double depth_fraction) {
-  return bound_for(grains, areal_density, contact, scheme, depth_fraction, true);
+  return bound_for(grains, areal_density, contact, scheme, depth_fraction);
 }
 
 }  // namespace pilelab::dem

@@ -9,8 +9,7 @@
 //   omega^2 = 2 E w / l,   zeta = (gamma/2) sqrt(w m / l)
 // (the paper's damping D = gamma (dA/dt)/l sqrt(E m_n) with m_n = m/2, against critical damping),
 // and the scheme's limit stability_limit_omega_dt(scheme, zeta) / omega falls as w grows. So the
-// bound needs the heaviest chord a contact can have on each grain, with l at its smallest (both
-// levers the inner radius).
+// bound needs the heaviest chord a contact can have on each grain, with l at its smallest.
 //
 // Which chords can a contact have? Its two end points lie on the grain's boundary, and the part
 // of the grain beyond the chord lies inside the other grain: it is no thicker than the overlap.
@@ -18,15 +17,20 @@
 // radius (a flat contact along one edge cuts off nothing; a chord across a corner cuts the corner
 // off). A chord along an edge has its midpoint inside the edge, so a long chord has a short arm
 // and a long arm a short chord: counting the whole edge at the arm of its far end, as this bound
-// did until 2026-11-22, overstated w by up to 3x. World records the deepest overlap of a run, so
-// a run can tell whether it stayed inside the bound's assumption.
+// did until 2026-11-22, overstated w by up to 3x. l is proportional to the lever (the distance
+// of the chord's midpoint from the centroid), which is the inner radius for a chord along an
+// edge but shorter for one across a corner: on an elongated grain of the paper the heaviest
+// chord a quarter-radius deep lies at 0.77 of the inner radius. The bound counts each chord at
+// its own lever; until 2026-11-23 it took every lever at the inner radius, and its default step
+// was then about 1 % above the limit of the deepest contact it admitted. World records the
+// deepest overlap of a run, so a run can tell whether it stayed inside the bound's assumption.
 //
 // Tangential mode. The Cundall-Strack spring k_t with its viscous term sqrt(k_t m_t) has damping
 // ratio 1/2 whatever the geometry, and is stiffest for a force at the bounding radius:
 // omega_t^2 = 2 k_t (1/m + r^2/I). Its limit depends on how the spring is advanced
 // (tangential_limit_omega_dt).
 //
-// Discs: chord up to 2r, arm 0.
+// Discs: a chord cut f r deep is 2 r sqrt(f (2 - f)) long, at arm 0 and lever r (1 - f).
 #include <vector>
 
 #include "dem/contact_law.h"
@@ -50,13 +54,13 @@ struct TimeStepBound {
 TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
                                const ContactParameters& contact, Scheme scheme);
 
-/// The same bound for contacts as deep as depth_fraction of the inner radius, with both effects
-/// of depth: chords that cut that deep, and each chord at its own lever, the distance of its
-/// midpoint from the centroid. A chord across a corner can pass closer to the centroid than any
-/// edge, so its l is shorter than stable_time_step assumes (levers at the inner radius; floored at
-/// half of it, as the contact law floors them). Discs: the chord cut f r deep, at lever r (1 - f).
-/// A run evaluates it for the deepest overlap it reached (World::deepest_overlap): whether its
-/// step stayed stable for the contacts it actually made.
+/// The same bound for contacts as deep as depth_fraction of the inner radius (stable_time_step is
+/// this at max_overlap_depth_fraction), with both effects of depth: chords that cut that deep,
+/// and each chord at its own lever, the distance of its midpoint from the centroid. A chord
+/// across a corner can pass closer to the centroid than any edge, so its l is shorter than an
+/// edge's (levers floored at half the inner radius, as the contact law floors them). Discs: the
+/// chord cut f r deep, at lever r (1 - f). A run evaluates it for the deepest overlap it reached
+/// (World::deepest_overlap): whether its step stayed stable for the contacts it actually made.
 TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
                                         const ContactParameters& contact, Scheme scheme, double depth_fraction);
 

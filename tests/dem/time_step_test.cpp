@@ -55,12 +55,25 @@ double brute_force_heaviest_chord(const Shape& s, double m, double inertia, doub
 }
 }  // namespace
 
+namespace {
+// The deepest contact the default bound admits on a disc of radius r: cut a quarter of r deep,
+// chord 2 r sqrt(1/4 (2 - 1/4)) = r sqrt(7)/2 through the centre's line (arm 0), lever 3r/4.
+struct DiscDeepestContact {
+  double chord, lever;
+};
+DiscDeepestContact disc_deepest_contact(double r) {
+  EXPECT_EQ(max_overlap_depth_fraction, 0.25);
+  return {0.5 * std::sqrt(7.0) * r, 0.75 * r};
+}
+}  // namespace
+
 TEST(TimeStep, DiscMatchesTheClosedForm) {
-  // A disc: chord up to 2r through the centre (arm 0), levers r so l = r/2 (paper).
+  // A disc: the chord of its deepest admitted contact, with l from both levers (paper: l = lever/2).
   const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
+  const DiscDeepestContact d = disc_deepest_contact(r);
   for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog}) {
     ContactParameters c;
-    const double expected = expected_normal_limit(scheme, c, 2.0 * r / m, r / 2, m);
+    const double expected = expected_normal_limit(scheme, c, d.chord / m, contact_length(c, d.lever, d.lever), m);
     EXPECT_NEAR(stable_time_step({make_disc(r)}, rho, c, scheme).stable_limit, expected, 1e-12 * expected)
         << scheme_name(scheme);
   }
@@ -90,15 +103,17 @@ TEST(TimeStep, DeeperContactsAreStableOnlyAtSmallerSteps) {
   // Each chord counted at its own lever, against the brute-force search: a chord across corners
   // may pass nearer the centroid than the inner radius, which shortens l. Undamped and
   // frictionless, the limit is L / omega with omega^2 = 2 E w / l, so the bound at depth f is
-  // the default bound times sqrt(w(0.25) / w_levers(f)) exactly. With the paper's damping and
-  // friction, deeper contacts never allow a larger step.
+  // the default bound (depth 0.25, levers counted) times sqrt(w(0.25) / w(f)) exactly. With the
+  // paper's damping and friction, deeper contacts never allow a larger step.
   const Shape s = make_polygon({{0.004, 0.0}, {0.002, 0.003}, {-0.003, 0.0025}, {-0.004, -0.001}, {0.0, -0.003}});
   const double rho = 5000.0, m = rho * s.area, inertia = rho * s.polar_moment;
   ContactParameters plain;
   plain.damping_gamma = 0.0;
   plain.friction_mu = 0.0;
   const double base = stable_time_step({s}, rho, plain, Scheme::verlet).stable_limit;
-  const double w_assumed = heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius).weight;
+  const double w_assumed = heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius, true).weight;
+  EXPECT_GT(w_assumed, heaviest_chord(s, m, inertia, max_overlap_depth_fraction * s.inner_radius).weight)
+      << "this grain's heaviest admitted chord passes nearer the centroid than its inner radius";
   for (double f : {0.0, 0.1, 0.25, 0.4, 0.7}) {
     const double depth = f * s.inner_radius;
     const double w = heaviest_chord(s, m, inertia, depth, true).weight;
@@ -187,7 +202,7 @@ TEST(TimeStep, TheSmallestGrainSetsTheBound) {
 TEST(TimeStep, AStiffTangentialSpringSetsTheBound) {
   // Two discs touching at the rim: 1/m_t = 2 (1/m + r^2/I) = 6/m (I = m r^2 / 2). With
   // k_t = 2 E and no damping, the tangential mode (omega_t^2 = 12 E/m) is stiffer than the
-  // normal one (8 E/m), and its own limit decides.
+  // normal one (2 E (sqrt(7)/2 r / m) / (3r/8) = 7.06 E/m), and its own limit decides.
   const double r = 0.003, rho = 5000.0, m = rho * M_PI * r * r;
   for (TangentialHistory history : {TangentialHistory::spring, TangentialHistory::total})
     for (Scheme scheme : {Scheme::gear5, Scheme::verlet, Scheme::leapfrog}) {
@@ -197,7 +212,10 @@ TEST(TimeStep, AStiffTangentialSpringSetsTheBound) {
       c.tangential_history = history;
       const double omega_t = std::sqrt(c.tangential_stiffness_ratio * c.youngs_modulus * 6.0 / m);
       const double tangential = tangential_limit_omega_dt(scheme, history) / omega_t;
-      const double expected = std::min(tangential, expected_normal_limit(scheme, c, 2.0 * r / m, r / 2, m));
+      const DiscDeepestContact d = disc_deepest_contact(r);
+      const double normal =
+          expected_normal_limit(scheme, c, d.chord / m, contact_length(c, d.lever, d.lever), m);
+      const double expected = std::min(tangential, normal);
       const TimeStepBound b = stable_time_step({make_disc(r)}, rho, c, scheme);
       EXPECT_NEAR(b.stable_limit, expected, 1e-12 * expected) << scheme_name(scheme);
       EXPECT_NEAR(b.omega_max, omega_t, 1e-9 * omega_t) << scheme_name(scheme) << ": the tangential mode decides";

@@ -141,12 +141,22 @@ double disc_weight_at_depth(double r, double m, double f) {
   const double lever = std::max(1.0 - depth, 0.5) * r;
   return chord / m * r / lever;
 }
+}  // namespace
+
+// The default bound is the lever-counted bound at the deepest overlap it admits: a chord that
+// cuts a quarter of the inner radius off an elongated grain can pass at 0.77 of the inner radius
+// from the centroid, and counting it at the inner radius (as this bound did until 2026-11-23)
+// left the default step above that contact's limit.
+TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
+                               const ContactParameters& contact, Scheme scheme) {
+  return stable_time_step_at_depth(grains, areal_density, contact, scheme, max_overlap_depth_fraction);
+}
 
 // The bound over all grains for chords cutting up to depth_fraction of the inner radius, each
 // chord at its own lever (the distance of its midpoint from the centroid, at most the inner
 // radius).
-TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, const ContactParameters& contact,
-                        Scheme scheme, double depth_fraction) {
+TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
+                                        const ContactParameters& contact, Scheme scheme, double depth_fraction) {
   TimeStepBound b;
   for (std::size_t i = 0; i < grains.size(); ++i) {
     const Shape& s = grains[i];
@@ -180,21 +190,6 @@ TimeStepBound bound_for(const std::vector<Shape>& grains, double areal_density, 
     }
   }
   return b;
-}
-}  // namespace
-
-// The default bound is the lever-counted bound at the deepest overlap it admits: a chord that
-// cuts a quarter of the inner radius off an elongated grain can pass at 0.77 of the inner radius
-// from the centroid, and counting it at the inner radius (as this bound did until 2026-11-23)
-// left the default step above that contact's limit.
-TimeStepBound stable_time_step(const std::vector<Shape>& grains, double areal_density,
-                               const ContactParameters& contact, Scheme scheme) {
-  return stable_time_step_at_depth(grains, areal_density, contact, scheme, max_overlap_depth_fraction);
-}
-
-TimeStepBound stable_time_step_at_depth(const std::vector<Shape>& grains, double areal_density,
-                                        const ContactParameters& contact, Scheme scheme, double depth_fraction) {
-  return bound_for(grains, areal_density, contact, scheme, depth_fraction);
 }
 
 }  // namespace pilelab::dem

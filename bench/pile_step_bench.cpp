@@ -77,7 +77,7 @@ void BM_PileStep(benchmark::State& state) {
   std::size_t contacts = 0, candidates = 0;
   for (auto _ : state) {
     w.step();
-    contacts += w.contacts().size();
+    contacts += w.contact_count();
     candidates += w.candidate_count();
   }
   const double grains = double(w.active_grains().size());

@@ -154,7 +154,10 @@ inline void portable_sincos(double x, double& s, double& c) {
   // out whole turns of the double nearest 2 pi keeps the result deterministic; its error,
   // 3.9e-17 |x|, is what an angle that large is worth anyway.
   if (std::abs(x) >= 0x1p27 * d::pio2_1) x = std::fmod(x, 2.0 * d::pi_hi);
-  const double k = std::nearbyint(x * d::two_over_pi);  // round to nearest, ties to even
+  // k = nearbyint(x 2/pi), rounded to nearest with ties to even, as adding and subtracting
+  // 1.5 * 2^52 rounds any |y| < 2^51 (exact, and without a library call in the hot loop).
+  constexpr double round_shift = 0x1.8p52;
+  const double k = (x * d::two_over_pi + round_shift) - round_shift;
   // r = x - k pi/2 as r + dr: x - k p1 is exact (the two are close); the rest are summed
   // with their rounding errors kept.
   const d::Wide a = d::two_sum(x - k * d::pio2_1, -(k * d::pio2_2));
@@ -162,7 +165,7 @@ inline void portable_sincos(double x, double& s, double& c) {
   const d::Wide r = d::two_sum(b.hi, (a.lo + b.lo) - k * d::pio2_4);
   const double sr = d::sin_kernel(r.hi, r.lo), cr = d::cos_kernel(r.hi, r.lo);
   // k mod 4 picks the quadrant.
-  switch (static_cast<int>(std::fmod(k, 4.0) + 4.0) & 3) {
+  switch (static_cast<int>(static_cast<std::int64_t>(k) & 3)) {  // |k| < 2^28: exact; & 3 is k mod 4
     case 0: s = sr, c = cr; break;
     case 1: s = cr, c = -sr; break;
     case 2: s = -sr, c = -cr; break;

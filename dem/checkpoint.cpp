@@ -198,8 +198,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   for (std::size_t i = 0; i < n; ++i)
     if (a[i] < 0 || a[i] >= b[i] || b[i] >= world.body_count() || (i > 0 && pair_key(int(a[i - 1]), int(b[i - 1])) >= pair_key(int(a[i]), int(b[i]))))
       throw InputError(path + ": /contacts: entry " + std::to_string(i) + " is not a valid, ordered body pair");
-  auto& contacts = world.mutable_contacts();
-  contacts.assign(n, Contact{});
+  std::vector<Contact> contacts(n);
   for (std::size_t i = 0; i < n; ++i) {
     Contact& c = contacts[i];
     c.a = static_cast<std::int32_t>(a[i]);
@@ -212,6 +211,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
     c.area = area[i];
     c.chord = chord[i];
   }
+  world.restore_contacts(std::move(contacts));
 
   ProtocolState s;
   const std::int64_t phase = f.attribute_int("/protocol", "phase");

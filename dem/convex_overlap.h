@@ -10,6 +10,8 @@
 // 90 degrees (the boundary pieces and the chord enclose the same region), so this is exactly
 // the paper's chord; it is also the gradient of A with respect to a translation of b, which makes
 // dA/dt = chord * (approach speed at the force point) exact for rigid motions.
+#include <cstdint>
+
 #include "dem/vec2.h"
 
 namespace pilelab::dem {
@@ -24,6 +26,19 @@ struct Overlap {
   bool touching() const { return area > 0.0; }
 };
 
+/// What the narrow phase keeps of a polygon pair from one step to the next, so that a pair that
+/// has barely moved is answered in a few cross products: the edges at which the boundaries
+/// crossed (a contact), or an edge that separated the shapes (no contact). Only a hint: the
+/// overlap is the same whatever it holds (stale, wrong or empty), so it need not be saved in a
+/// checkpoint, and a pair seen for the first time starts from the default.
+struct OverlapHint {
+  enum Kind : std::uint8_t { none = 0, crossing = 1, separated_by_a = 2, separated_by_b = 3 };
+  std::uint8_t kind = none;
+  /// crossing: a's edge where a's boundary enters b, b's edge there, a's edge where it leaves
+  /// b, b's edge there; separated: the separating edge in [0]. Edge e joins corners e and e+1.
+  std::uint8_t edge[4] = {0, 0, 0, 0};
+};
+
 /// Two convex polygons in world coordinates, vertices counter-clockwise (at most 64 each).
 /// centroid_a and centroid_b orient the normal when the chord is degenerate (nested or
 /// identical polygons).
@@ -35,6 +50,13 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
 /// measure the edges anew for every pair.
 Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                          const Vec2& centroid_b, double longest_edge);
+
+/// The same, starting from what the pair was at the last step and updating it. Shallow
+/// overlaps, where the boundaries cross exactly twice, take a fast path (the chord joins the
+/// two crossings, the overlap is the polygon of the corners between them); everything else
+/// (deep or degenerate overlaps, nested shapes) is clipped.
+Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                         const Vec2& centroid_b, double longest_edge, OverlapHint& hint);
 
 /// Two discs: the lens of two circles.
 Overlap overlap_discs(const Vec2& ca, double ra, const Vec2& cb, double rb);

@@ -21,20 +21,6 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
 
-// Inside a parallel region: this thread's consecutive block [begin, end) of n items, and the
-// number of threads. Blocks in thread order cover 0..n in order.
-struct ThreadBlock {
-  std::size_t begin, end;
-  int threads;
-};
-ThreadBlock this_threads_block(std::size_t n) {
-  int nt = 1, t = 0;
-#ifdef _OPENMP
-  nt = omp_get_num_threads();
-  t = omp_get_thread_num();
-#endif
-  return {n * t / nt, n * (t + 1) / nt, nt};
-}
 }  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {}
@@ -44,6 +30,8 @@ int World::append_body(const Shape& shape, double mass, double inertia, bool act
     throw std::invalid_argument("World: polygons have at most 64 corners");
   const int id = body_count();
   shapes_.push_back(shape);
+  geometry_.push_back({shape.bounding_radius, shape.inner_radius, shape.longest_edge, shape.radius,
+                       shape.kind == ShapeKind::disc});
   mass_.push_back(mass);
   inertia_.push_back(inertia);
   inv_mass_.push_back(1.0 / mass);  // 0 for walls, whose mass is infinite
@@ -117,9 +105,47 @@ void World::deactivate(int body) {
   active_[body] = 0;
   active_grains_.erase(std::lower_bound(active_grains_.begin(), active_grains_.end(), body));
   neighbours_stale_ = true;
-  contacts_.erase(std::remove_if(contacts_.begin(), contacts_.end(),
-                                 [&](const Contact& c) { return c.a == body || c.b == body; }),
-                  contacts_.end());
+  // Its contacts end now (the list drops its pairs at the next build).
+  if (!body_pair_start_.empty())
+    for (int k = body_pair_start_[body]; k < body_pair_start_[body + 1]; ++k) {
+      const int q = body_pairs_[k] >> 1;
+      if (pair_touching_[q]) --contact_count_;
+      pair_touching_[q] = 0;
+      pair_load_[q] = {0.0, 0.0, 0.0, 0.0};
+    }
+  restored_contacts_.erase(std::remove_if(restored_contacts_.begin(), restored_contacts_.end(),
+                                          [&](const Contact& c) { return c.a == body || c.b == body; }),
+                           restored_contacts_.end());
+  if (!restored_contacts_.empty()) contact_count_ = restored_contacts_.size();
+  contacts_current_ = false;
+}
+
+void World::restore_contacts(std::vector<Contact> contacts) {
+  neighbours_.clear();
+  pair_contact_.clear();
+  pair_touching_.clear();
+  pair_hint_.clear();
+  pair_load_.clear();
+  body_pair_start_.clear();
+  body_pairs_.clear();
+  neighbours_stale_ = true;
+  restored_contacts_ = std::move(contacts);
+  contact_count_ = restored_contacts_.size();
+  contacts_current_ = false;
+}
+
+const std::vector<Contact>& World::contacts() const {
+  if (contacts_current_) return contacts_;
+  contacts_.clear();
+  if (!restored_contacts_.empty()) {
+    contacts_ = restored_contacts_;
+  } else {
+    contacts_.reserve(contact_count_);
+    for (std::size_t q = 0; q < neighbours_.size(); ++q)
+      if (pair_touching_[q]) contacts_.push_back(pair_contact_[q]);
+  }
+  contacts_current_ = true;
+  return contacts_;
 }
 
 void World::restore_activity(const std::vector<std::uint8_t>& active) {
@@ -164,15 +190,10 @@ void World::step() {
 
   auto t3 = Clock::now();
   collide_and_compute_forces();
+  gather_forces();  // and Newton (paper eq. 1): the accelerations from contact forces and gravity
   profile_.narrow_phase += seconds_since(t3);
 
   auto t4 = Clock::now();
-  // Newton (paper eq. 1): contact forces plus gravity.
-  for (int i : active_grains_) {
-    accel_[3 * i] = contact_force_[3 * i] * inv_mass_[i] + settings_.gravity.x();
-    accel_[3 * i + 1] = contact_force_[3 * i + 1] * inv_mass_[i] + settings_.gravity.y();
-    accel_[3 * i + 2] = contact_force_[3 * i + 2] * inv_inertia_[i];
-  }
   correct(settings_.scheme, motion_, accel_, active_grains_, dt);
   time_ += dt;
   ++steps_;
@@ -181,15 +202,24 @@ void World::step() {
 }
 
 void World::check_finite() const {
-  for (int i : active_grains_)
+  // The first grain (in body order) whose state is not finite; the loop over the grains is
+  // split among the threads as in every other loop over them.
+  const int n = static_cast<int>(active_grains_.size());
+  int first_bad = n;
+#pragma omp parallel for schedule(static) reduction(min : first_bad) if (n >= parallel_threshold)
+  for (int k = 0; k < n; ++k) {
+    const int i = active_grains_[k];
+    bool finite = true;
     for (int c = 0; c < 3; ++c)
-      if (!std::isfinite(motion_.d[0][3 * i + c]) || !std::isfinite(motion_.d[1][3 * i + c])) {
-        std::ostringstream s;
-        s << "the simulation became unstable at t = " << time_ << " s (step " << steps_ << "): grain " << i
-          << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
-          << " s) above the stability limit, or bodies placed overlapping deeply";
-        throw std::runtime_error(s.str());
-      }
+      finite = finite && std::isfinite(motion_.d[0][3 * i + c]) && std::isfinite(motion_.d[1][3 * i + c]);
+    if (!finite && k < first_bad) first_bad = k;
+  }
+  if (first_bad == n) return;
+  std::ostringstream s;
+  s << "the simulation became unstable at t = " << time_ << " s (step " << steps_ << "): grain "
+    << active_grains_[first_bad] << " has a non-finite position or velocity. Likely causes: a time step ("
+    << settings_.time_step << " s) above the stability limit, or bodies placed overlapping deeply";
+  throw std::runtime_error(s.str());
 }
 
 void World::place_shapes() {
@@ -222,56 +252,33 @@ bool circle_meets_box(double x, double y, double r, const Vec2& lo, const Vec2& 
 // grain's bounding circle meets a wall's bounding box. Testing that for all pairs near each
 // other every step is what a Verlet list saves: it lists the pairs that come within a skin of
 // being candidates, and stays valid while no body has moved more than half the skin since it
-// was built (two bodies approach by at most the sum of their displacements). The candidates
-// are then filtered from the list with the exact test, so they are the same pairs, in the
-// same order, as a fresh search every step would give: no pair is ever missed, and the result
-// does not depend on the skin or on when the list was rebuilt.
+// was built (two bodies approach by at most the sum of their displacements). The narrow phase
+// then tests every listed pair exactly, so the candidates are the same pairs as a fresh search
+// every step would give: no pair is ever missed, and the result does not depend on the skin
+// or on when the list was rebuilt.
 void World::find_candidate_pairs() {
   const double skin = settings_.neighbour_skin_fraction * max_grain_radius_;
   if (neighbours_stale_ || skin != listed_skin_ || neighbour_list_outdated()) build_neighbour_list(skin);
-
   wall_lo_.resize(wall_count_);
   wall_hi_.resize(wall_count_);
   for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), wall_lo_[w], wall_hi_[w]);
-  // The filter runs over consecutive blocks of the sorted list, one per thread, and the
-  // blocks' survivors are joined in order: the candidates come out sorted whatever the threads.
-  candidates_.clear();
-  const std::size_t listed = neighbours_.size();
-#pragma omp parallel if (listed >= 4 * static_cast<std::size_t>(parallel_threshold))
-  {
-    std::vector<std::uint64_t> local;
-    const ThreadBlock block = this_threads_block(listed);
-    for (std::size_t q = block.begin; q < block.end; ++q) {
-      const std::uint64_t key = neighbours_[q];
-      const int a = static_cast<int>(key >> 32), b = static_cast<int>(key & 0xffffffffu);
-      const double xb = motion_.d[0][3 * b], yb = motion_.d[0][3 * b + 1], rb = shapes_[b].bounding_radius;
-      bool near;
-      if (is_wall(a)) {
-        near = circle_meets_box(xb, yb, rb, wall_lo_[a], wall_hi_[a]);
-      } else {
-        const double dx = xb - motion_.d[0][3 * a], dy = yb - motion_.d[0][3 * a + 1];
-        const double r = shapes_[a].bounding_radius + rb;
-        near = dx * dx + dy * dy < r * r;
-      }
-      if (near) local.push_back(key);
-    }
-#pragma omp for ordered schedule(static, 1)
-    for (int k = 0; k < block.threads; ++k) {
-#pragma omp ordered
-      candidates_.insert(candidates_.end(), local.begin(), local.end());
-    }
-  }
 }
 
 bool World::neighbour_list_outdated() const {
+  const int n = static_cast<int>(active_grains_.size());
   double max_moved2 = 0.0;
-  for (int i : active_grains_) max_moved2 = std::max(max_moved2, (position(i) - listed_position_[i]).squaredNorm());
+#pragma omp parallel for schedule(static) reduction(max : max_moved2) if (n >= parallel_threshold)
+  for (int k = 0; k < n; ++k) {
+    const int i = active_grains_[k];
+    max_moved2 = std::max(max_moved2, (position(i) - listed_position_[i]).squaredNorm());
+  }
   for (int w : moving_walls_) max_moved2 = std::max(max_moved2, (position(w) - listed_position_[w]).squaredNorm());
   return 4.0 * max_moved2 > listed_skin_ * listed_skin_;
 }
 
 void World::build_neighbour_list(double skin) {
-  neighbours_.clear();
+  std::vector<std::uint64_t> old_neighbours;
+  old_neighbours.swap(neighbours_);
   listed_skin_ = skin;
   neighbours_stale_ = false;
   ++neighbour_builds_;
@@ -287,8 +294,12 @@ void World::build_neighbour_list(double skin) {
       if (circle_meets_box(motion_.d[0][3 * i], motion_.d[0][3 * i + 1], shapes_[i].bounding_radius + skin, lo, hi))
         neighbours_.push_back(pair_key(w, i));
   }
-  if (active_grains_.empty()) return;
+  if (!active_grains_.empty()) list_grain_pairs(skin);
+  carry_pair_history(old_neighbours);
+  index_pairs_by_body();
+}
 
+void World::list_grain_pairs(double skin) {
   // Grains against grains: a cell list with cells no smaller than the largest bounding
   // diameter plus the skin, so any two grains within the skin sit in the same or adjacent cells.
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
@@ -357,49 +368,101 @@ void World::build_neighbour_list(double skin) {
   }
 }
 
+// What each pair of the new list carries over from the old one (both sorted by key): the
+// contact and its spring, the narrow phase's hint. Contacts restored from a checkpoint take the
+// place of the old list once.
+void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours) {
+  const std::size_t n = neighbours_.size();
+  std::vector<Contact> contact(n);
+  std::vector<std::uint8_t> touching(n, 0);
+  std::vector<OverlapHint> hint(n);
+  if (!restored_contacts_.empty()) {
+    std::size_t r = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      while (r < restored_contacts_.size() && restored_contacts_[r].key() < neighbours_[q]) ++r;
+      if (r < restored_contacts_.size() && restored_contacts_[r].key() == neighbours_[q]) {
+        contact[q] = restored_contacts_[r];
+        touching[q] = 1;
+      }
+    }
+    restored_contacts_.clear();
+  } else {
+    std::size_t r = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      while (r < old_neighbours.size() && old_neighbours[r] < neighbours_[q]) ++r;
+      if (r < old_neighbours.size() && old_neighbours[r] == neighbours_[q]) {
+        contact[q] = pair_contact_[r];
+        touching[q] = pair_touching_[r];
+        hint[q] = pair_hint_[r];
+      }
+    }
+  }
+  pair_contact_.swap(contact);
+  pair_touching_.swap(touching);
+  pair_hint_.swap(hint);
+  pair_load_.assign(n, PairLoad{0.0, 0.0, 0.0, 0.0});
+  contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
+}
+
+// Each body's pairs in key order: the order in which a serial loop over the sorted pairs would
+// add their forces to it.
+void World::index_pairs_by_body() {
+  body_pair_start_.assign(body_count() + 1, 0);
+  for (std::uint64_t key : neighbours_) {
+    ++body_pair_start_[static_cast<int>(key >> 32) + 1];
+    ++body_pair_start_[static_cast<int>(key & 0xffffffffu) + 1];
+  }
+  for (int i = 0; i < body_count(); ++i) body_pair_start_[i + 1] += body_pair_start_[i];
+  body_pairs_.resize(2 * neighbours_.size());
+  std::vector<int> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
+  for (std::size_t q = 0; q < neighbours_.size(); ++q) {
+    body_pairs_[fill[static_cast<int>(neighbours_[q] >> 32)]++] = 2 * static_cast<int>(q);
+    body_pairs_[fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++] = 2 * static_cast<int>(q) + 1;
+  }
+}
+
 void World::collide_and_compute_forces() {
-  const std::size_t n = candidates_.size();
-  scratch_contacts_.resize(n);
-  touching_.assign(n, 0);
+  const std::size_t n = neighbours_.size();
   const ContactParameters& law = settings_.contact;
   const double dt = settings_.time_step;
 
-  // The deepest overlap of this step: each thread's deepest, the smaller pair key breaking
-  // ties, so the record is the same whatever the threads.
+  // The deepest overlap of this step: each thread's deepest, the smaller pair index breaking
+  // ties, so the record is the same whatever the threads and the order they take the pairs in.
   double step_deepest = 0.0;
-  std::size_t step_deepest_pair = n;
+  std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0;
 
-  // Each candidate pair is independent: collide and evaluate the contact law in parallel, each
-  // thread over a consecutive block of the sorted candidates.
-#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
+  // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
+  // reading the spring it carried from the last step. Dynamic chunks, since pairs that touch
+  // cost more than pairs that do not and they cluster along the list.
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs)
   {
-    const ThreadBlock block = this_threads_block(n);
-    const std::size_t begin = block.begin, end = block.end;
     double deepest = 0.0;
     std::size_t deepest_pair = n;
-    // The spring history of contacts that persist: both lists are sorted by key, so one search
-    // finds where the block starts in the old contacts and a merge walk does the rest.
-    std::size_t old = begin == end ? 0
-                                 : std::lower_bound(contacts_.begin(), contacts_.end(), candidates_[begin],
-                                                    [](const Contact& ct, std::uint64_t key) { return ct.key() < key; }) -
-                                       contacts_.begin();
-    for (std::size_t c = begin; c < end; ++c) {
-      while (old < contacts_.size() && contacts_[old].key() < candidates_[c]) ++old;
-      const bool persists = old < contacts_.size() && contacts_[old].key() == candidates_[c];
-      const double old_spring = persists ? contacts_[old].spring : 0.0;
-      const Vec2 old_normal = persists ? contacts_[old].normal : Vec2(0.0, 0.0);
-
-      const int a = static_cast<int>(candidates_[c] >> 32), b = static_cast<int>(candidates_[c] & 0xffffffffu);
-      const Shape& sa = shapes_[a];
-      const Shape& sb = shapes_[b];
+#pragma omp for schedule(dynamic, 512) nowait
+    for (std::size_t q = 0; q < n; ++q) {
+      const bool touched = pair_touching_[q] != 0;
+      pair_touching_[q] = 0;
+      const int a = static_cast<int>(neighbours_[q] >> 32), b = static_cast<int>(neighbours_[q] & 0xffffffffu);
+      const BodyGeometry& sa = geometry_[a];
+      const BodyGeometry& sb = geometry_[b];
       const Vec2 pa = position(a), pb = position(b);
+      pair_load_[q] = {0.0, 0.0, 0.0, 0.0};
+      // The exact broad-phase test: bounding circles, or a grain's circle against a wall's box.
+      if (is_wall(a)) {
+        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo_[a], wall_hi_[a])) continue;
+      } else {
+        const double r = sa.bounding_radius + sb.bounding_radius;
+        if ((pb - pa).squaredNorm() >= r * r) continue;
+      }
+      ++candidates;
+
       Overlap o;
-      if (sa.kind == ShapeKind::polygon && sb.kind == ShapeKind::polygon) {
+      if (!sa.is_disc && !sb.is_disc) {
         o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb,
-                             std::max(sa.longest_edge, sb.longest_edge));
-      } else if (sa.kind == ShapeKind::disc && sb.kind == ShapeKind::disc) {
+                             std::max(sa.longest_edge, sb.longest_edge), pair_hint_[q]);
+      } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
-      } else if (sa.kind == ShapeKind::disc) {
+      } else if (sa.is_disc) {
         o = overlap_disc_polygon(pa, sa.radius, corners(b), corner_count(b), pb);
       } else {
         o = overlap_disc_polygon(pb, sb.radius, corners(a), corner_count(a), pa);
@@ -407,6 +470,9 @@ void World::collide_and_compute_forces() {
       }
       if (!o.touching()) continue;
 
+      Contact& ct = pair_contact_[q];
+      const double old_spring = touched ? ct.spring : 0.0;
+      const Vec2 old_normal = touched ? ct.normal : Vec2(0.0, 0.0);
       const Vec2 ra = o.point - pa, rb = o.point - pb;
       const Vec2 ua = velocity(a) + cross(angular_velocity(a), ra);
       const Vec2 ub = velocity(b) + cross(angular_velocity(b), rb);
@@ -432,25 +498,27 @@ void World::collide_and_compute_forces() {
       const double spring = turn > 0.5 ? turn * old_spring : 0.0;
       const ContactForce f = dem::contact_force(law, k, l, spring, dt);
 
-      Contact& out = scratch_contacts_[c];
-      out.a = a;
-      out.b = b;
-      out.spring = f.spring;
-      out.point = o.point;
-      out.normal = o.normal;
-      out.normal_force = f.normal;
-      out.tangential_force = f.tangential;
-      out.area = o.area;
-      out.chord = o.chord;
-      touching_[c] = 1;
+      ct.a = a;
+      ct.b = b;
+      ct.spring = f.spring;
+      ct.point = o.point;
+      ct.normal = o.normal;
+      ct.normal_force = f.normal;
+      ct.tangential_force = f.tangential;
+      ct.area = o.area;
+      ct.chord = o.chord;
+      pair_touching_[q] = 1;
+      const Vec2 force = ct.force_on_b();
+      pair_load_[q] = {force.x(), force.y(), cross(ra, force), cross(rb, force)};
+      ++touching_pairs;
       // The overlap is convex and the chord joins two points of its boundary, so no point of it
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
       const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
       const double inner = is_wall(a) ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
       const double fraction = depth / inner;
-      if (fraction > deepest) {
+      if (fraction > deepest || (fraction == deepest && q < deepest_pair)) {
         deepest = fraction;
-        deepest_pair = c;
+        deepest_pair = q;
       }
     }
 #pragma omp critical
@@ -459,30 +527,49 @@ void World::collide_and_compute_forces() {
       step_deepest_pair = deepest_pair;
     }
   }
+  candidate_count_ = candidates;
+  contact_count_ = touching_pairs;
+  contacts_current_ = false;
   if (step_deepest > deepest_overlap_.fraction) {
-    const Contact& ct = scratch_contacts_[step_deepest_pair];
+    const Contact& ct = pair_contact_[step_deepest_pair];
     deepest_overlap_ = {step_deepest, time_ + dt, ct.point, ct.a, ct.b};
   }
+}
 
-  // Gather: sum forces and torques on bodies in pair order (deterministic whatever the
-  // threads), compacting the touching pairs in place into the new contact list.
-  std::fill(contact_force_.begin(), contact_force_.end(), 0.0);
-  std::size_t kept = 0;
-  for (std::size_t c = 0; c < n; ++c) {
-    if (!touching_[c]) continue;
-    if (kept != c) scratch_contacts_[kept] = scratch_contacts_[c];
-    const Contact& ct = scratch_contacts_[kept++];
-    const Vec2 f = ct.force_on_b();
-    const Vec2 ra = ct.point - position(ct.a), rb = ct.point - position(ct.b);
-    contact_force_[3 * ct.a] -= f.x();
-    contact_force_[3 * ct.a + 1] -= f.y();
-    contact_force_[3 * ct.a + 2] -= cross(ra, f);
-    contact_force_[3 * ct.b] += f.x();
-    contact_force_[3 * ct.b + 1] += f.y();
-    contact_force_[3 * ct.b + 2] += cross(rb, f);
+// Newton's third law, summed per body over its pairs in key order (the order of a serial loop
+// over the sorted pairs), so that the sums are the same whatever the threads. Pairs that do not
+// touch carry zeros, which leave a sum unchanged. Then each grain's acceleration (paper eq. 1).
+void World::gather_forces() {
+  const auto sum_over_pairs = [this](int i) {
+    double fx = 0.0, fy = 0.0, torque = 0.0;
+    for (int k = body_pair_start_[i]; k < body_pair_start_[i + 1]; ++k) {
+      const int entry = body_pairs_[k];
+      const PairLoad& load = pair_load_[entry >> 1];
+      if (entry & 1) {  // the body is b: the force acts on it as stored
+        fx += load.fx;
+        fy += load.fy;
+        torque += load.torque_b;
+      } else {
+        fx -= load.fx;
+        fy -= load.fy;
+        torque -= load.torque_a;
+      }
+    }
+    contact_force_[3 * i] = fx;
+    contact_force_[3 * i + 1] = fy;
+    contact_force_[3 * i + 2] = torque;
+  };
+  const int n = static_cast<int>(active_grains_.size());
+  const Vec2 g = settings_.gravity;
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+  for (int k = 0; k < n; ++k) {
+    const int i = active_grains_[k];
+    sum_over_pairs(i);
+    accel_[3 * i] = contact_force_[3 * i] * inv_mass_[i] + g.x();
+    accel_[3 * i + 1] = contact_force_[3 * i + 1] * inv_mass_[i] + g.y();
+    accel_[3 * i + 2] = contact_force_[3 * i + 2] * inv_inertia_[i];
   }
-  scratch_contacts_.resize(kept);
-  contacts_.swap(scratch_contacts_);
+  for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);
 }
 
 double World::kinetic_energy() const {

@@ -1,11 +1,19 @@
 #pragma once
 // The DEM world: bodies (walls first, then grains), their motion, the contacts with their
 // tangential history, and the step that advances them all by dt:
-//   predict -> place shapes -> find pairs -> collide and compute forces -> correct.
+//   predict -> place shapes -> find pairs -> collide and compute forces -> gather -> correct.
+//
+// Pairs live on a Verlet list (sorted by pair key) that is rebuilt only when some body has
+// moved half the skin. Everything a pair carries from step to step sits beside its entry: the
+// contact of the last step (with its tangential spring) and the narrow phase's hint. A step
+// then streams through the list in order, each pair on its own (so in parallel, in any order),
+// and each body sums its pairs' forces in key order through a per-body index of the list built
+// with it: the sums, and so the results, do not depend on the number of threads.
 #include <cstdint>
 #include <vector>
 
 #include "dem/contact_law.h"
+#include "dem/convex_overlap.h"
 #include "dem/integrator.h"
 #include "dem/shape.h"
 #include "dem/vec2.h"
@@ -94,7 +102,10 @@ class World {
   /// Sum of contact forces and torque on a body from the last step (gravity excluded).
   Vec2 contact_force(int body) const { return {contact_force_[3 * body], contact_force_[3 * body + 1]}; }
   double contact_torque(int body) const { return contact_force_[3 * body + 2]; }
-  const std::vector<Contact>& contacts() const { return contacts_; }
+  /// The touching pairs of the last step, sorted by key (assembled from the pair list when asked
+  /// for, so do not call it every step: contact_count() is cheap).
+  const std::vector<Contact>& contacts() const;
+  std::size_t contact_count() const { return contact_count_; }
   /// World-frame corners of a polygon body (after the last step).
   const Vec2* corners(int body) const { return &world_vertices_[vertex_offset_[body]]; }
   int corner_count(int body) const { return vertex_offset_[body + 1] - vertex_offset_[body]; }
@@ -106,8 +117,8 @@ class World {
   /// Changes scheme and time step between steps; derivatives a scheme does not carry start at 0.
   void set_time_integration(Scheme scheme, double time_step);
   const StepProfile& profile() const { return profile_; }
-  /// Candidate pairs examined in the last step (broad-phase output).
-  std::size_t candidate_count() const { return candidates_.size(); }
+  /// Candidate pairs examined in the last step (broad-phase output: bounding shapes overlap).
+  std::size_t candidate_count() const { return candidate_count_; }
   /// Pairs on the Verlet list, and how many times it has been built.
   std::size_t neighbour_count() const { return neighbours_.size(); }
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
@@ -122,7 +133,9 @@ class World {
     return motion_;
   }
   const MotionState& motion() const { return motion_; }
-  std::vector<Contact>& mutable_contacts() { return contacts_; }
+  /// Replaces the contacts (sorted by key, bodies a < b) and their spring history, e.g. from a
+  /// checkpoint; the next step continues them.
+  void restore_contacts(std::vector<Contact> contacts);
   void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
   void restore_deepest_overlap(const DeepestOverlap& deepest) { deepest_overlap_ = deepest; }
   /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
@@ -135,13 +148,23 @@ class World {
   void find_candidate_pairs();
   bool neighbour_list_outdated() const;
   void build_neighbour_list(double skin);
+  void list_grain_pairs(double skin);
+  void carry_pair_history(const std::vector<std::uint64_t>& old_neighbours);
+  void index_pairs_by_body();
   void collide_and_compute_forces();
+  void gather_forces();
   void place_body(int body);
   void check_finite() const;
 
   WorldSettings settings_;
   int wall_count_ = 0;
   std::vector<Shape> shapes_;
+  // What the pair loop needs of each body's shape, packed (the Shape keeps its vertices apart).
+  struct BodyGeometry {
+    double bounding_radius, inner_radius, longest_edge, radius;
+    bool is_disc;
+  };
+  std::vector<BodyGeometry> geometry_;
   std::vector<double> mass_, inertia_, inv_mass_, inv_inertia_;
   std::vector<std::uint8_t> active_;
   std::vector<int> active_grains_;   // ascending
@@ -151,7 +174,6 @@ class World {
   std::vector<double> accel_;
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> world_vertices_;
-  std::vector<std::uint64_t> candidates_;  // sorted pair keys
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
   // Verlet list: pairs within the skin at the last build, and where every body was then.
   std::vector<std::uint64_t> neighbours_;  // sorted pair keys
@@ -159,10 +181,26 @@ class World {
   double listed_skin_ = 0.0;
   bool neighbours_stale_ = true;
   std::int64_t neighbour_builds_ = 0;
-  std::vector<Contact> contacts_;          // sorted by key
+  // Beside each listed pair: its contact at the last step (valid where touching) and the
+  // narrow phase's hint.
+  std::vector<Contact> pair_contact_;
+  std::vector<std::uint8_t> pair_touching_;
+  std::vector<OverlapHint> pair_hint_;
+  // The force on b and the torques about both centroids, zero where the pair does not touch:
+  // what the gather reads, packed.
+  struct PairLoad {
+    double fx, fy, torque_a, torque_b;
+  };
+  std::vector<PairLoad> pair_load_;
+  // Each body's listed pairs in key order: body_pairs_ from body_pair_start_[i] to
+  // body_pair_start_[i + 1], each entry 2 q + (1 if the body is the pair's b).
+  std::vector<int> body_pair_start_, body_pairs_;
+  // Contacts restored from a checkpoint, taken into the list at its next build.
+  std::vector<Contact> restored_contacts_;
+  std::size_t contact_count_ = 0, candidate_count_ = 0;
+  mutable std::vector<Contact> contacts_;  // assembled by contacts()
+  mutable bool contacts_current_ = true;
   DeepestOverlap deepest_overlap_;
-  std::vector<Contact> scratch_contacts_;
-  std::vector<std::uint8_t> touching_;
   // Broad-phase cell list.
   std::vector<int> cell_start_, cell_bodies_, body_cell_;
   double max_grain_radius_ = 0.0;

@@ -17,7 +17,7 @@ World world_from_snapshot(const DemFile& file, const std::string& name, const Wo
   for (std::size_t i = 0; i < s.body.size(); ++i)
     world.activate(static_cast<int>(s.body[i]), {s.position[2 * i], s.position[2 * i + 1]}, s.angle[i],
                    {s.velocity[2 * i], s.velocity[2 * i + 1]}, s.angular_velocity[i]);
-  auto& contacts = world.mutable_contacts();
+  std::vector<Contact> contacts;
   for (std::size_t c = 0; c < s.normal_force.size(); ++c) {
     Contact k;
     k.a = static_cast<std::int32_t>(s.pair[2 * c]);
@@ -28,6 +28,7 @@ World world_from_snapshot(const DemFile& file, const std::string& name, const Wo
     k.spring = s.tangential_force[c];
     contacts.push_back(k);
   }
+  world.restore_contacts(std::move(contacts));
   return world;
 }
 

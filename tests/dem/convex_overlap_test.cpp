@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <list>
@@ -714,6 +715,99 @@ TEST(ConvexOverlap, SwappingTheGrainsFlipsOnlyTheNormal) {
     push_corner_into_edge(rng, a, b, std::pow(10.0, rng.uniform(-9.0, 0.0)));
     check_polygon_pair(a, b, false);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Polygon-polygon: the hint the World keeps per pair
+
+bool same_bits(const Overlap& x, const Overlap& y) {
+  return std::memcmp(&x.area, &y.area, sizeof(double)) == 0 && std::memcmp(&x.chord, &y.chord, sizeof(double)) == 0 &&
+         x.point == y.point && x.normal == y.normal && x.crossings == y.crossings;
+}
+
+double longest_edge(const Polygon& a, const Polygon& b) {
+  double longest = 0.0;
+  for (const Polygon* p : {&a, &b})
+    for (std::size_t i = 0; i < p->size(); ++i) longest = std::max(longest, ((*p)[(i + 1) % p->size()] - (*p)[i]).norm());
+  return longest;
+}
+
+TEST(ConvexOverlap, TheHintNeverChangesTheResult) {
+  // The hint only says where to look first: fresh, the pair's own from the last call, one left
+  // by a slightly different placement, or garbage, the result must be the same to the bit.
+  Rng rng(31);
+  int shallow = 0, fast = 0, separated = 0;
+  for (int i = 0; i < 3000 && !HasFailure(); ++i) {
+    SCOPED_TRACE("pair " + std::to_string(i));
+    const Polygon a = random_convex_polygon(rng, 1.0, Vec2(0, 0));
+    Polygon b = random_convex_polygon(rng, rng.uniform(0.5, 2.0), Vec2(0, 0));
+    const double depth = std::pow(10.0, rng.uniform(-6.0, -0.5)) * (rng.uniform() < 0.2 ? -1.0 : 1.0);
+    push_corner_into_edge(rng, a, b, depth);
+    const Polygon nudged = shifted(b, 1e-3 * random_direction(rng));
+    const Vec2 ca = vertex_mean(a), cb = vertex_mean(b);
+    const double edge = longest_edge(a, b);
+    const auto run = [&](const Polygon& q, OverlapHint& hint) {
+      return overlap_polygons(a.data(), int(a.size()), ca, q.data(), int(q.size()), vertex_mean(q), edge, hint);
+    };
+    OverlapHint fresh;
+    const Overlap reference = run(b, fresh);
+    const Overlap unhinted = overlap_polygons(a.data(), int(a.size()), ca, b.data(), int(b.size()), cb);
+    EXPECT_TRUE(same_bits(reference, unhinted));
+    OverlapHint own = fresh;
+    EXPECT_TRUE(same_bits(run(b, own), reference)) << "with its own hint";
+    OverlapHint from_nudged;
+    run(nudged, from_nudged);
+    EXPECT_TRUE(same_bits(run(b, from_nudged), reference)) << "with the hint of a nudged placement";
+    for (int g = 0; g < 8; ++g) {
+      OverlapHint garbage;
+      garbage.kind = static_cast<std::uint8_t>(rng.uniform_int(0, 4));
+      for (auto& e : garbage.edge) e = static_cast<std::uint8_t>(rng.uniform_int(0, 15));
+      EXPECT_TRUE(same_bits(run(b, garbage), reference)) << "with garbage hint " << g;
+    }
+    // The fast path is what a shallow contact takes: a corner of b 1e-6 to 0.3 deep into an
+    // edge of a crosses the boundary twice, clear of any degeneracy.
+    if (depth > 0 && reference.crossings == 2) {
+      ++shallow;
+      fast += fresh.kind == OverlapHint::crossing;
+    }
+    separated += depth < 0 && (fresh.kind == OverlapHint::separated_by_a || fresh.kind == OverlapHint::separated_by_b);
+  }
+  EXPECT_GT(shallow, 1500);
+  EXPECT_EQ(fast, shallow) << "every shallow two-crossing contact takes the fast path";
+  EXPECT_GT(separated, 200);
+}
+
+TEST(ConvexOverlap, EveryCrossingHintOfADeepOverlapGivesTheSameResult) {
+  // Deep overlaps whose boundaries cross four or more times: some hints name two real
+  // crossings of opposite sense with the wrong corners between them (a plus sign's arms), which
+  // only the check of those corners can tell. Every hint, the same result.
+  Rng rng(37);
+  int many_crossings = 0;
+  for (int i = 0; i < 400 && many_crossings < 40 && !HasFailure(); ++i) {
+    const Polygon a = random_convex_polygon(rng, 1.0, Vec2(0, 0));
+    const Polygon b = random_convex_polygon(rng, 1.0, 0.3 * rng.uniform() * random_direction(rng));
+    if (a.size() > 8 || b.size() > 8) continue;
+    const BoundaryCrossings crossings = boundary_crossings(to_exact(a), to_exact(b));
+    if (crossings.points.size() < 4 || crossings.collinear) continue;
+    ++many_crossings;
+    SCOPED_TRACE("pair " + std::to_string(i));
+    const Vec2 ca = vertex_mean(a), cb = vertex_mean(b);
+    const double edge = longest_edge(a, b);
+    const Overlap reference = overlap_polygons(a.data(), int(a.size()), ca, b.data(), int(b.size()), cb);
+    const int na = int(a.size()), nb = int(b.size());
+    for (int e = 0; e < na * nb * na * nb && !HasFailure(); ++e) {
+      OverlapHint hint;
+      hint.kind = OverlapHint::crossing;
+      hint.edge[0] = static_cast<std::uint8_t>(e % na);
+      hint.edge[1] = static_cast<std::uint8_t>(e / na % nb);
+      hint.edge[2] = static_cast<std::uint8_t>(e / (na * nb) % na);
+      hint.edge[3] = static_cast<std::uint8_t>(e / (na * nb * na));
+      const Overlap o = overlap_polygons(a.data(), na, ca, b.data(), nb, cb, edge, hint);
+      EXPECT_TRUE(same_bits(o, reference)) << "hint edges " << int(hint.edge[0]) << " " << int(hint.edge[1]) << " "
+                                           << int(hint.edge[2]) << " " << int(hint.edge[3]);
+    }
+  }
+  EXPECT_GE(many_crossings, 40);
 }
 
 // ---------------------------------------------------------------------------------------------

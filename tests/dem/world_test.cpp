@@ -204,7 +204,9 @@ TEST(World, TangentialSpringTurnsWithTheContactAndStartsAfreshAfterAJump) {
     world.step();
     ASSERT_EQ(world.contacts().size(), 1u);
     const double s0 = 0.2 * world.contacts()[0].normal_force;  // well inside the Coulomb cap
-    world.mutable_contacts()[0].spring = s0;
+    std::vector<Contact> contacts = world.contacts();
+    contacts[0].spring = s0;
+    world.restore_contacts(contacts);
     MotionState& m = world.motion();
     for (int k = 1; k < 6; ++k)
       for (int c = 0; c < 3; ++c) m.d[k][3 * g + c] = 0.0;

@@ -13,6 +13,7 @@
 #include "common/rng.h"
 #include "dem/dem_file.h"
 #include "dem/grain_generator.h"
+#include "dem/thread_binding.h"
 #include "dem/time_step.h"
 #include "dem/world_from_file.h"
 
@@ -99,4 +100,11 @@ void BM_PileStep(benchmark::State& state) {
 BENCHMARK(BM_PileStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  bind_threads_to_cores();  // as pilelab dem does
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

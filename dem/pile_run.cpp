@@ -20,6 +20,7 @@
 #include "dem/dem_scene.h"
 #include "dem/pile_protocol.h"
 #include "dem/pile_shape.h"
+#include "dem/thread_binding.h"
 #include "dem/vtk_writer.h"
 
 namespace pilelab::dem {
@@ -182,7 +183,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["wall_time_pour_and_settle_s"] = c.wall_time_settled;
   r["particle_steps_per_s"] = c.wall_time > 0 ? c.particle_steps / c.wall_time : 0.0;
   r["kinetic_energy_final_J"] = w.kinetic_energy();
-  r["contacts_final"] = w.contacts().size();
+  r["contacts_final"] = w.contact_count();
   r["time_step_s"] = w.settings().time_step;
   r["stable_time_step_s"] = p.time_step_bound().stable_limit;
   const DeepestOverlap& deepest = w.deepest_overlap();
@@ -206,6 +207,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["profile_s"] = {{"predict", prof.predict},         {"geometry", prof.geometry},
                     {"broad_phase", prof.broad_phase}, {"narrow_phase", prof.narrow_phase},
                     {"correct", prof.correct}};
+  r["neighbour_list_builds"] = w.neighbour_builds();
   return r;
 }
 }  // namespace
@@ -223,6 +225,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
 #ifdef _OPENMP
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const int threads = omp_get_max_threads();
+  bind_threads_to_cores();
 #else
   const int threads = 1;
 #endif

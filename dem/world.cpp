@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -250,15 +251,17 @@ bool circle_meets_box(double x, double y, double r, const Vec2& lo, const Vec2& 
 
 // Broad phase. A pair is a candidate when the bounding circles of two grains overlap, or a
 // grain's bounding circle meets a wall's bounding box. Testing that for all pairs near each
-// other every step is what a Verlet list saves: it lists the pairs that come within a skin of
-// being candidates, and stays valid while no body has moved more than half the skin since it
-// was built (two bodies approach by at most the sum of their displacements). The narrow phase
-// then tests every listed pair exactly, so the candidates are the same pairs as a fresh search
-// every step would give: no pair is ever missed, and the result does not depend on the skin
-// or on when the list was rebuilt.
+// other every step is what a Verlet list saves: it lists the pairs that come within a margin
+// of being candidates, each body with a margin of its own, and stays valid while no body has
+// moved farther than its margin since the list was built (two bodies approach by at most the
+// sum of their displacements). A body at rest gets half the skin; a moving one also the way
+// its speed takes it in neighbour_lookahead_steps steps, so that the grains falling from the
+// funnel do not force a new list every few steps. The narrow phase then tests every listed
+// pair exactly, so the candidates are the same pairs as a fresh search every step would give:
+// no pair is ever missed, and the result does not depend on the margins or on when the list
+// was rebuilt.
 void World::find_candidate_pairs() {
-  const double skin = settings_.neighbour_skin_fraction * max_grain_radius_;
-  if (neighbours_stale_ || skin != listed_skin_ || neighbour_list_outdated()) build_neighbour_list(skin);
+  if (neighbours_stale_ || neighbour_list_outdated()) build_neighbour_list();
   wall_lo_.resize(wall_count_);
   wall_hi_.resize(wall_count_);
   for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), wall_lo_[w], wall_hi_[w]);
@@ -266,50 +269,64 @@ void World::find_candidate_pairs() {
 
 bool World::neighbour_list_outdated() const {
   const int n = static_cast<int>(active_grains_.size());
-  double max_moved2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_moved2) if (n >= parallel_threshold)
+  bool outdated = false;
+#pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) {
     const int i = active_grains_[k];
-    max_moved2 = std::max(max_moved2, (position(i) - listed_position_[i]).squaredNorm());
+    outdated = outdated || (position(i) - listed_position_[i]).squaredNorm() > listed_margin_[i] * listed_margin_[i];
   }
-  for (int w : moving_walls_) max_moved2 = std::max(max_moved2, (position(w) - listed_position_[w]).squaredNorm());
-  return 4.0 * max_moved2 > listed_skin_ * listed_skin_;
+  for (int w : moving_walls_)
+    outdated = outdated || (position(w) - listed_position_[w]).squaredNorm() > listed_margin_[w] * listed_margin_[w];
+  return outdated;
 }
 
-void World::build_neighbour_list(double skin) {
+void World::build_neighbour_list() {
   std::vector<std::uint64_t> old_neighbours;
   old_neighbours.swap(neighbours_);
-  listed_skin_ = skin;
   neighbours_stale_ = false;
   ++neighbour_builds_;
+  const double rest_margin = 0.5 * settings_.neighbour_skin_fraction * max_grain_radius_;
+  const double lookahead = settings_.neighbour_lookahead_steps * settings_.time_step;
   listed_position_.resize(body_count());
-  for (int i = 0; i < body_count(); ++i) listed_position_[i] = position(i);
+  listed_margin_.resize(body_count());
+  for (int i = 0; i < body_count(); ++i) {
+    listed_position_[i] = position(i);
+    listed_margin_[i] = is_wall(i) && velocity(i).squaredNorm() == 0.0 ? 0.0 : rest_margin + velocity(i).norm() * lookahead;
+  }
 
-  // Walls against grains: bounding box of the wall, widened by the skin. Walls have the lowest
-  // indices, so these keys come first and in order.
+  // Walls against grains: bounding box of the wall, widened by both margins. Walls have the
+  // lowest indices, so these keys come first and in order.
   for (int w = 0; w < wall_count_; ++w) {
     Vec2 lo, hi;
     wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo, hi);
     for (int i : active_grains_)
-      if (circle_meets_box(motion_.d[0][3 * i], motion_.d[0][3 * i + 1], shapes_[i].bounding_radius + skin, lo, hi))
+      if (circle_meets_box(motion_.d[0][3 * i], motion_.d[0][3 * i + 1],
+                           geometry_[i].bounding_radius + listed_margin_[i] + listed_margin_[w], lo, hi))
         neighbours_.push_back(pair_key(w, i));
   }
-  if (!active_grains_.empty()) list_grain_pairs(skin);
+  if (!active_grains_.empty()) list_grain_pairs(rest_margin);
   carry_pair_history(old_neighbours);
   index_pairs_by_body();
 }
 
-void World::list_grain_pairs(double skin) {
-  // Grains against grains: a cell list with cells no smaller than the largest bounding
-  // diameter plus the skin, so any two grains within the skin sit in the same or adjacent cells.
-  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+// Grains against grains: a cell list, with cells wide enough that two grains of the usual reach
+// (bounding radius plus margin, a margin up to 1.5 times the rest margin) that are within reach
+// of each other sit in the same or adjacent cells. Those pairs are listed per grain i (j > i,
+// sorted), so concatenating the per-thread lists of consecutive blocks of grains gives the same
+// sorted list whatever the thread count. The few grains of longer reach (moving fast) search
+// as far as they reach; their pairs are sorted apart and merged in.
+void World::list_grain_pairs(double rest_margin) {
+  const double usual_reach = max_grain_radius_ + 1.5 * rest_margin;
+  const auto reach = [this](int i) { return geometry_[i].bounding_radius + listed_margin_[i]; };
+  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, longest_reach = 0.0;
   for (int i : active_grains_) {
     xmin = std::min(xmin, motion_.d[0][3 * i]);
     xmax = std::max(xmax, motion_.d[0][3 * i]);
     ymin = std::min(ymin, motion_.d[0][3 * i + 1]);
     ymax = std::max(ymax, motion_.d[0][3 * i + 1]);
+    longest_reach = std::max(longest_reach, reach(i));
   }
-  double h = 2.0 * max_grain_radius_ + skin;
+  double h = 2.0 * usual_reach;
   // Keep the grid no larger than a few cells per grain, whatever the spread of the grains.
   const double max_cells = 4.0 * static_cast<double>(active_grains_.size()) + 1024.0;
   while (((xmax - xmin) / h + 1.0) * ((ymax - ymin) / h + 1.0) > max_cells) h *= 2.0;
@@ -329,8 +346,22 @@ void World::list_grain_pairs(double skin) {
     std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
     for (int i : active_grains_) cell_bodies_[fill[body_cell_[i]]++] = i;  // ascending within a cell
   }
-  // Pairs are listed per grain i (j > i, sorted), so concatenating the per-thread lists of
-  // consecutive blocks of grains gives the same sorted list whatever the thread count.
+  const auto far_reaching = [&](int i) { return reach(i) > usual_reach; };
+  // Visits every grain j of the cells within `range` cells of grain i's.
+  const auto for_cells_around = [&](int i, int range, auto&& visit) {
+    const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
+    for (int y = std::max(cy - range, 0); y <= std::min(cy + range, ny - 1); ++y)
+      for (int x = std::max(cx - range, 0); x <= std::min(cx + range, nx - 1); ++x) {
+        const int c = y * nx + x;
+        for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) visit(cell_bodies_[k]);
+      }
+  };
+  const auto within_reach = [&](int i, int j) {
+    const double dx = motion_.d[0][3 * j] - motion_.d[0][3 * i], dy = motion_.d[0][3 * j + 1] - motion_.d[0][3 * i + 1];
+    const double r = reach(i) + reach(j);
+    return dx * dx + dy * dy < r * r;
+  };
+
   const int n_active = static_cast<int>(active_grains_.size());
 #pragma omp parallel if (n_active >= parallel_threshold)
   {
@@ -344,20 +375,11 @@ void World::list_grain_pairs(double skin) {
     const int end = static_cast<int>(static_cast<long long>(n_active) * (t + 1) / nt);
     for (int idx = begin; idx < end; ++idx) {
       const int i = active_grains_[idx];
+      if (far_reaching(i)) continue;
       const std::size_t first = local.size();
-      const int cx = body_cell_[i] % nx, cy = body_cell_[i] / nx;
-      const double xi = motion_.d[0][3 * i], yi = motion_.d[0][3 * i + 1], ri = shapes_[i].bounding_radius + skin;
-      for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
-        for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x) {
-          const int c = y * nx + x;
-          for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-            const int j = cell_bodies_[k];
-            if (j <= i) continue;
-            const double dx = motion_.d[0][3 * j] - xi, dy = motion_.d[0][3 * j + 1] - yi;
-            const double r = ri + shapes_[j].bounding_radius;
-            if (dx * dx + dy * dy < r * r) local.push_back(pair_key(i, j));
-          }
-        }
+      for_cells_around(i, 1, [&](int j) {
+        if (j > i && !far_reaching(j) && within_reach(i, j)) local.push_back(pair_key(i, j));
+      });
       std::sort(local.begin() + first, local.end());
     }
 #pragma omp for ordered schedule(static, 1)
@@ -366,6 +388,26 @@ void World::list_grain_pairs(double skin) {
       neighbours_.insert(neighbours_.end(), local.begin(), local.end());
     }
   }
+
+  // Pairs with a far-reaching grain, found from its side (from the smaller index if both are).
+  std::vector<std::uint64_t> far;
+  for (int i : active_grains_) {
+    if (!far_reaching(i)) continue;
+    const int range = static_cast<int>(std::ceil((reach(i) + longest_reach) / h));
+    for_cells_around(i, range, [&](int j) {
+      if (j == i || (far_reaching(j) && j < i) || !within_reach(i, j)) return;
+      far.push_back(i < j ? pair_key(i, j) : pair_key(j, i));
+    });
+  }
+  if (far.empty()) return;
+  std::sort(far.begin(), far.end());
+  const std::size_t grain_pairs_begin = static_cast<std::size_t>(
+      std::find_if(neighbours_.begin(), neighbours_.end(), [this](std::uint64_t key) { return !is_wall(static_cast<int>(key >> 32)); }) -
+      neighbours_.begin());
+  std::vector<std::uint64_t> merged(neighbours_.begin(), neighbours_.begin() + grain_pairs_begin);
+  merged.reserve(neighbours_.size() + far.size());
+  std::merge(neighbours_.begin() + grain_pairs_begin, neighbours_.end(), far.begin(), far.end(), std::back_inserter(merged));
+  neighbours_.swap(merged);
 }
 
 // What each pair of the new list carries over from the old one (both sorted by key): the

@@ -4,7 +4,7 @@
 //   predict -> place shapes -> find pairs -> collide and compute forces -> gather -> correct.
 //
 // Pairs live on a Verlet list (sorted by pair key) that is rebuilt only when some body has
-// moved half the skin. Everything a pair carries from step to step sits beside its entry: the
+// moved farther than its margin. Everything a pair carries from step to step sits beside its entry: the
 // contact of the last step (with its tangential spring) and the narrow phase's hint. A step
 // then streams through the list in order, each pair on its own (so in parallel, in any order),
 // and each body sums its pairs' forces in key order through a per-body index of the list built
@@ -60,11 +60,15 @@ struct WorldSettings {
   Scheme scheme = Scheme::gear5;
   double time_step = 1e-6;  ///< [s]
   Vec2 gravity{0.0, -9.81}; ///< [m/s^2]
-  /// Verlet-list skin as a fraction of the largest grain's bounding radius: pairs are listed
-  /// when their bounding shapes come within this distance, and the list is rebuilt once some
-  /// body has moved half of it. Only a matter of speed: the pairs handed to the narrow phase
-  /// are the same for any skin.
+  /// Verlet-list skin as a fraction of the largest grain's bounding radius: pairs of bodies at
+  /// rest are listed when their bounding shapes come within this distance, and the list is
+  /// rebuilt once some body has moved farther than its margin (half the skin at rest). Only a
+  /// matter of speed: the pairs handed to the narrow phase are the same for any skin.
   double neighbour_skin_fraction = 0.3;
+  /// A moving body's margin also covers the way its speed takes it in this many steps (at the
+  /// last build), so that fast grains do not force a new list every few steps. Only a matter
+  /// of speed, like the skin.
+  double neighbour_lookahead_steps = 100.0;
 };
 
 class World {
@@ -147,8 +151,8 @@ class World {
   void place_shapes();
   void find_candidate_pairs();
   bool neighbour_list_outdated() const;
-  void build_neighbour_list(double skin);
-  void list_grain_pairs(double skin);
+  void build_neighbour_list();
+  void list_grain_pairs(double rest_margin);
   void carry_pair_history(const std::vector<std::uint64_t>& old_neighbours);
   void index_pairs_by_body();
   void collide_and_compute_forces();
@@ -175,10 +179,11 @@ class World {
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> world_vertices_;
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
-  // Verlet list: pairs within the skin at the last build, and where every body was then.
+  // Verlet list: pairs within reach at the last build, where every body was then, and how far
+  // each may move before the list must be built again.
   std::vector<std::uint64_t> neighbours_;  // sorted pair keys
   std::vector<Vec2> listed_position_;      // per body
-  double listed_skin_ = 0.0;
+  std::vector<double> listed_margin_;      // per body [m]
   bool neighbours_stale_ = true;
   std::int64_t neighbour_builds_ = 0;
   // Beside each listed pair: its contact at the last step (valid where touching) and the

@@ -17,11 +17,13 @@ using namespace pilelab::dem;
 
 namespace {
 // A dense random heap of grains of very different sizes over a plate, overlapping a little.
-World random_heap(int grains, std::uint64_t seed, Vec2 gravity, double skin_fraction = 0.3, double speed = 0.1) {
+World random_heap(int grains, std::uint64_t seed, Vec2 gravity, double skin_fraction = 0.3, double speed = 0.1,
+                  double lookahead_steps = 100.0) {
   WorldSettings s;
   s.scheme = Scheme::verlet;
   s.gravity = gravity;
   s.neighbour_skin_fraction = skin_fraction;
+  s.neighbour_lookahead_steps = lookahead_steps;
   Rng rng(seed);
   std::vector<Shape> shapes;
   GrainSpec spec;
@@ -87,28 +89,34 @@ std::set<std::pair<int, int>> brute_force_touching_pairs(const World& w) {
 TEST(World, VerletListNeverMissesATouchingPairAsItAges) {
   // Fast grains (the heap's initial overlaps blow it apart at metres per second): the list is
   // reused for several steps between rebuilds, and every step must still find exactly the
-  // touching pairs an O(N^2) search finds.
-  World w = random_heap(250, 17, {0, -9.81}, 0.3, 1.0);
-  for (int k = 0; k < 300; ++k) {
-    w.step();
-    ASSERT_EQ(touching_pairs(w), brute_force_touching_pairs(w)) << "step " << k;
+  // touching pairs an O(N^2) search finds. A long lookahead gives the fast grains margins
+  // several grain sizes wide, which the list searches for apart from the rest.
+  for (double lookahead : {0.0, 100.0, 3000.0}) {
+    SCOPED_TRACE("lookahead " + std::to_string(lookahead));
+    World w = random_heap(250, 17, {0, -9.81}, 0.3, 1.0, lookahead);
+    for (int k = 0; k < 300; ++k) {
+      w.step();
+      ASSERT_EQ(touching_pairs(w), brute_force_touching_pairs(w)) << "step " << k;
+    }
+    EXPECT_GT(w.neighbour_builds(), 2);    // the grains did cross their margins...
+    EXPECT_LT(w.neighbour_builds(), 150);  // ...and the list was reused in between
   }
-  EXPECT_GT(w.neighbour_builds(), 2);    // the grains did cross the skin...
-  EXPECT_LT(w.neighbour_builds(), 150);  // ...and the list was reused in between
 }
 
 TEST(World, ResultsDoNotDependOnTheSkin) {
-  // The skin only decides how often the list is rebuilt: the candidates, hence the motion,
-  // are the same bit for bit (skin 0 rebuilds every step, like a search without a list).
-  auto run = [](double skin) {
-    World w = random_heap(300, 23, {0, -9.81}, skin, 1.0);
+  // The skin and the lookahead only decide how often the list is rebuilt: the candidates,
+  // hence the motion, are the same bit for bit (skin and lookahead 0 rebuild every step, like
+  // a search without a list).
+  auto run = [](double skin, double lookahead) {
+    World w = random_heap(300, 23, {0, -9.81}, skin, 1.0, lookahead);
     for (int k = 0; k < 200; ++k) w.step();
     return w.motion().d;
   };
-  const auto none = run(0.0), thin = run(0.05), thick = run(1.0);
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_EQ(none[k], thin[k]) << "derivative " << k;
-    EXPECT_EQ(none[k], thick[k]) << "derivative " << k;
+  const auto none = run(0.0, 0.0);
+  for (const auto& [skin, lookahead] : {std::pair{0.05, 0.0}, std::pair{1.0, 0.0}, std::pair{0.3, 100.0},
+                                        std::pair{0.3, 3000.0}, std::pair{0.0, 500.0}}) {
+    const auto other = run(skin, lookahead);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(none[k], other[k]) << "skin " << skin << " lookahead " << lookahead << " derivative " << k;
   }
 }
 

@@ -268,9 +268,27 @@ bool proper_crossing(const Vec2* a, int na, int i, const Vec2* b, int nb, int k,
   return true;
 }
 
+// A triangle (counter-clockwise) with its edges, to test points against it.
+struct Triangle {
+  Vec2 corner[3], edge[3];
+  double edge2[3];
+  Triangle(const Vec2& p0, const Vec2& p1, const Vec2& p2) : corner{p0, p1, p2} {
+    for (int m = 0; m < 3; ++m) {
+      edge[m] = corner[m == 2 ? 0 : m + 1] - corner[m];
+      edge2[m] = edge[m].squaredNorm();
+    }
+  }
+  bool clearly_contains(const Vec2& p, double margin2) const {
+    for (int m = 0; m < 3; ++m)
+      if (!clearly_left(side_of(edge[m], corner[m], p), edge2[m], margin2)) return false;
+    return true;
+  }
+};
+
 // The overlap from the four crossing edges, if they prove a two-crossing configuration.
-bool two_crossing_overlap(const Vec2* a, int na, const Vec2* b, int nb, const std::uint8_t edge[4], double margin,
-                          Overlap& o) {
+// centroid_a and centroid_b must lie inside their polygons.
+bool two_crossing_overlap(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb, const Vec2& centroid_b,
+                          const std::uint8_t edge[4], double margin, Overlap& o) {
   const int i = edge[0], k = edge[1], j = edge[2], l = edge[3];
   if (i >= na || j >= na || k >= nb || l >= nb) return false;
   const double margin2 = margin * margin;
@@ -283,10 +301,19 @@ bool two_crossing_overlap(const Vec2* a, int na, const Vec2* b, int nb, const st
   // On one edge both crossings lie on it in the order the path takes.
   if (a_chain == 0 && (x2 - x1).dot(a[next_index(i, na)] - a[i]) <= 0.0) return false;
   if (b_chain == 0 && (x1 - x2).dot(b[next_index(k, nb)] - b[k]) <= 0.0) return false;
-  for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na))
-    if (!clearly_inside(a[v], b, nb, margin2)) return false;
-  for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb))
-    if (!clearly_inside(b[v], a, na, margin2)) return false;
+  // Each chain must lie inside the other shape. The triangle of the chord and the other
+  // shape's centroid lies inside that shape (it is convex), and holds the corners of a shallow
+  // contact: three cross products prove what testing every edge would.
+  if (a_chain > 0) {
+    const Triangle in_b(x2, x1, centroid_b);
+    for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na))
+      if (!in_b.clearly_contains(a[v], margin2) && !clearly_inside(a[v], b, nb, margin2)) return false;
+  }
+  if (b_chain > 0) {
+    const Triangle in_a(x1, x2, centroid_a);
+    for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb))
+      if (!in_a.clearly_contains(b[v], margin2) && !clearly_inside(b[v], a, na, margin2)) return false;
+  }
 
   // Shoelace about X1, so that the round-off scales with the overlap, not with |X1|.
   double a2 = 0.0;
@@ -403,7 +430,7 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   // What the pair was last step, if it still holds.
   switch (hint.kind) {
     case OverlapHint::crossing:
-      if (two_crossing_overlap(a, na, b, nb, hint.edge, margin, o)) return o;
+      if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
       break;
     case OverlapHint::separated_by_a:
       if (separates(a, na, hint.edge[0], b, nb, margin2)) return o;
@@ -427,7 +454,7 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   switch (find_edges(a, na, b, nb, margin2, hint)) {
     case Search::separated: return o;
     case Search::found:
-      if (two_crossing_overlap(a, na, b, nb, hint.edge, margin, o)) return o;
+      if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
       break;
     case Search::other: break;
   }

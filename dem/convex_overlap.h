@@ -40,8 +40,8 @@ struct OverlapHint {
 };
 
 /// Two convex polygons in world coordinates, vertices counter-clockwise (at most 64 each).
-/// centroid_a and centroid_b orient the normal when the chord is degenerate (nested or
-/// identical polygons).
+/// centroid_a and centroid_b, points inside each polygon (their centroids), orient the normal
+/// when the chord is degenerate (nested or identical polygons).
 Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                          const Vec2& centroid_b);
 

@@ -14,11 +14,13 @@ the rounded body has the sharp polygon's edges, the vertices written are those o
 offset inwards by r: the body's outline is the sharp grain with its corners rounded off (radius
 r), its edges on the sharp grain's edges. Mass and inertia are the sharp polygon's.
 
-The grains sit on a heap-shaped lattice resting on the floor y = 0: row k (k = 0, 1, ...) holds
-the columns -(C - k) .. C - k at x = dx col + (dx / 2) (k mod 2), y = y0 + dy k, like pilelab's
-own synthetic pile (bench/pile_step_bench.cpp), with spacings wide enough that no two rounded
-bodies overlap at the start (dx and the diagonal exceed the largest possible enclosing diameter);
-the last row is centred. The heap then packs under gravity.
+The grains form a heap on the floor y = 0 with the row counts of pilelab's own synthetic pile
+(bench/pile_step_bench.cpp): row k (k = 0, 1, ...) holds 2 (C - k) + 1 grains, C = 110, until all
+are placed (the last row centred). Each row is set side by side, --gap apart, centred on x = 0,
+and each grain is lowered vertically until it rests, --gap clear, on the floor or on the grains
+placed before it. So the heap starts nearly dense, without overlaps (checked for every pair),
+and packs under gravity within milliseconds. (A lattice of pilelab's 8.2 mm would start some
+grains inside each other, and a wider one would first have to collapse.)
 
 Units: LAMMPS 'units lj' read as millimetre, gram, millisecond, so that force is in N, stiffness
 in N/mm, damping in N s/m, mass in g and the areal density 5000 kg/m^2 is 5 g/mm^2 (pile.in says
@@ -207,35 +209,93 @@ def write(path, grains, rounding, box, seed):
             f.write("%.12g\n" % (2.0 * rounding))
 
 
+def time_step_bound(grains, rounding, kn, mu, cn):
+    """The largest stable step [ms] on the stiffest contact a grain can form with its twin, as
+    pilelab bounds its own step (dem/time_step.cpp), for LAMMPS's contact: a vertex on an edge,
+    stiffness (1 + mu) kn (this version of body/rounded/polygon adds mu times the elastic force
+    along the normal), damping cn, the force perpendicular to the lever from the centre of mass
+    to the contact point, at most the body's enclosing radius. Two twins move the effective mass
+    1 / (2 (1/m + a^2/I)); nve/body is velocity Verlet, whose forces see the half-step velocity,
+    so the damped limit is leapfrog's, 2 (sqrt(1 + zeta^2) - zeta) / omega. Returns the bound and
+    the undamped one, each the smallest over the grains."""
+    best = (math.inf, math.inf)
+    k = (1.0 + mu) * kn
+    for g in grains:
+        lever = np.hypot(g["vertices"][:, 0], g["vertices"][:, 1]).max() + rounding
+        inv_mass = 2.0 * (1.0 / g["mass"] + lever * lever / g["inertia"][2])
+        omega = math.sqrt(k * inv_mass)
+        zeta = 0.5 * cn * math.sqrt(inv_mass / k)
+        best = (min(best[0], 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / omega), min(best[1], 2.0 / omega))
+    return best
+
+
+def overlapping_pairs(grains):
+    """Pairs of overlapping sharp polygons (separating-axis test on every pair whose bounding
+    boxes overlap); the placement should leave none. (The rounded bodies lie inside the sharp
+    polygons, so they do not overlap either.)"""
+    boxes = np.array([[g["x"] + g["sharp"][:, 0].min(), g["x"] + g["sharp"][:, 0].max(),
+                       g["y"] + g["sharp"][:, 1].min(), g["y"] + g["sharp"][:, 1].max()] for g in grains])
+    bad = []
+    tol = 0.0
+    for i, g in enumerate(grains):
+        near = np.nonzero((boxes[:, 0] < boxes[i, 1] + tol) & (boxes[:, 1] > boxes[i, 0] - tol) &
+                          (boxes[:, 2] < boxes[i, 3] + tol) & (boxes[:, 3] > boxes[i, 2] - tol))[0]
+        a = g["sharp"] + (g["x"], g["y"])
+        for j in near[near > i]:
+            b = grains[j]["sharp"] + (grains[j]["x"], grains[j]["y"])
+            separated = False
+            for p in (a, b):
+                e = np.roll(p, -1, axis=0) - p
+                axes = np.column_stack((e[:, 1], -e[:, 0])) / np.hypot(e[:, 0], e[:, 1])[:, None]
+                pa, pb = a @ axes.T, b @ axes.T
+                if np.any((pa.min(axis=0) > pb.max(axis=0) + tol) | (pb.min(axis=0) > pa.max(axis=0) + tol)):
+                    separated = True
+                    break
+            if not separated:
+                bad.append((i, int(j)))
+    return bad
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("-o", "--out", default="pile.data", help="data file to write (default pile.data)")
     p.add_argument("--grains", type=int, default=6500, help="number of bodies (default 6500, as pile_step_bench)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--rounding", type=float, default=0.1, help="rounding radius r [mm] (default 0.1)")
-    p.add_argument("--dx", type=float, default=9.2, help="lattice spacing along x [mm] (default 9.2)")
-    p.add_argument("--dy", type=float, default=8.0, help="lattice row spacing [mm] (default 8.0)")
+    p.add_argument("--gap", type=float, default=0.02,
+                   help="clearance between neighbouring sharp polygons and to the floor [mm] (default 0.02)")
     p.add_argument("--half-columns", type=int, default=110,
-                   help="the bottom row holds 2 C + 1 sites, each row one fewer on either side (default 110)")
-    p.add_argument("--y0", type=float, default=4.6, help="height of the bottom row's centres [mm] (default 4.6)")
+                   help="the bottom row holds 2 C + 1 grains, each row above one fewer on either side (default 110)")
     p.add_argument("--box", type=float, nargs=4, default=[-1500.0, 1500.0, -5.0, 600.0],
                    metavar=("XLO", "XHI", "YLO", "YHI"), help="box [mm] (default -1500 1500 -5 600)")
+    p.add_argument("--no-check", action="store_true", help="skip the final check that no two grains overlap")
+    p.add_argument("--kn", type=float, default=1.0e4, help="for the time-step bound only: pile.in's kn [N/mm]")
+    p.add_argument("--mu", type=float, default=0.54, help="for the time-step bound only: pile.in's mu")
+    p.add_argument("--cn", type=float, default=670.0, help="for the time-step bound only: pile.in's cn [N s/m]")
     a = p.parse_args()
-    grains, rows, largest = build(a.grains, a.seed, a.rounding, a.dx, a.dy, a.half_columns, a.y0)
-    xs = [g["x"] for g in grains]
-    ys = [g["y"] for g in grains]
-    if a.y0 <= largest:
-        sys.exit("--y0 %.3f mm: the bottom row could start inside the floor (largest body radius %.3f mm)"
-                 % (a.y0, largest))
-    if min(xs) - largest < a.box[0] or max(xs) + largest > a.box[1] or max(ys) + largest > a.box[3]:
+    grains, rows = build(a.grains, a.seed, a.rounding, a.half_columns, a.gap)
+    if not a.no_check:
+        bad = overlapping_pairs(grains)
+        if bad:
+            sys.exit("placement bug: %d overlapping pairs, e.g. %s" % (len(bad), bad[:5]))
+    xs = np.array([g["x"] for g in grains])
+    ys = np.array([g["y"] for g in grains])
+    largest = max(np.hypot(g["sharp"][:, 0], g["sharp"][:, 1]).max() for g in grains)
+    if xs.min() - largest < a.box[0] or xs.max() + largest > a.box[1] or ys.max() + largest > a.box[3]:
         sys.exit("the heap does not fit in the box")
     write(a.out, grains, a.rounding, (a.box[0], a.box[1], a.box[2], a.box[3], -0.5, 0.5), a.seed)
     masses = np.array([g["mass"] for g in grains])
     corners = np.array([len(g["vertices"]) for g in grains])
-    print("%s: %d bodies in %d rows, x %.1f .. %.1f mm, top row at y = %.1f mm; mass %.1f .. %.1f g "
-          "(mean %.1f), corners %d .. %d (mean %.2f), largest body radius %.3f mm, rounding %.3f mm"
-          % (a.out, len(grains), rows, min(xs), max(xs), max(ys), masses.min(), masses.max(),
-             masses.mean(), corners.min(), corners.max(), corners.mean(), largest, a.rounding))
+    area = sum(g["area"] for g in grains)
+    print("%s: %d bodies in %d rows, x %.1f .. %.1f mm, highest centre at y = %.1f mm; mass %.1f .. %.1f g "
+          "(mean %.1f, total %.3f kg), corners %d .. %d (mean %.2f), largest corner radius %.3f mm, "
+          "rounding %.3f mm, grain area %.4f m^2"
+          % (a.out, len(grains), rows, xs.min(), xs.max(), ys.max(), masses.min(), masses.max(),
+             masses.mean(), masses.sum() / 1000.0, corners.min(), corners.max(), corners.mean(),
+             largest, a.rounding, area * 1e-6))
+    damped, undamped = time_step_bound(grains, a.rounding, a.kn, a.mu, a.cn)
+    print("time-step bound for kn %g N/mm, mu %g, cn %g N s/m (twin grains, a vertex at the largest lever): "
+          "%.4f ms damped, %.4f ms undamped" % (a.kn, a.mu, a.cn, damped, undamped))
 
 
 if __name__ == "__main__":

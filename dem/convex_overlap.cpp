@@ -239,48 +239,70 @@ inline double side_of(const Vec2& d, const Vec2& e0, const Vec2& p) { return cro
 inline bool clearly_left(double side, double d2, double margin2) { return side > 0.0 && side * side > margin2 * d2; }
 inline bool clearly_right(double side, double d2, double margin2) { return side < 0.0 && side * side > margin2 * d2; }
 
+// The fast path is written in plain doubles: Eigen's packed 2-vectors cost a shuffle in every
+// cross product, and this is the innermost loop of the DEM. The operations are the ones the
+// vector forms would perform, in the same order.
+struct Point {
+  double x, y;
+};
+inline Point point_at(const Vec2* p, int i) { return {p[i].x(), p[i].y()}; }
+// |d| times the signed distance of p from the line through e0 along d = (dx, dy).
+inline double side_of(double dx, double dy, const Point& e0, const Point& p) {
+  return dx * (p.y - e0.y) - dy * (p.x - e0.x);
+}
+
 // p lies inside the convex polygon (CCW), farther than the margin from every edge's line.
-bool clearly_inside(const Vec2& p, const Vec2* poly, int n, double margin2) {
+bool clearly_inside(const Point& p, const Vec2* poly, int n, double margin2) {
+  Point e0 = point_at(poly, n - 1);
   for (int k = 0; k < n; ++k) {
-    const Vec2 d = poly[next_index(k, n)] - poly[k];
-    if (!clearly_left(side_of(d, poly[k], p), d.squaredNorm(), margin2)) return false;
+    const Point e1 = point_at(poly, k);
+    const double dx = e1.x - e0.x, dy = e1.y - e0.y;
+    const double side = side_of(dx, dy, e0, p);
+    if (!(side > 0.0 && side * side > margin2 * (dx * dx + dy * dy))) return false;
+    e0 = e1;
   }
   return true;
 }
 
 // Where a's edge i properly crosses b's edge k, a passing from one side of b's edge to the
-// other (entering: from the right, outside, to the left), or false. The point lies on a's edge,
-// at the same parameter the clip computes.
-bool proper_crossing(const Vec2* a, int na, int i, const Vec2* b, int nb, int k, bool entering, double margin2,
-                     Vec2& x) {
-  const Vec2 &a0 = a[i], &a1 = a[next_index(i, na)], &b0 = b[k], &b1 = b[next_index(k, nb)];
-  const Vec2 da = a1 - a0, db = b1 - b0;
-  const double da2 = da.squaredNorm(), db2 = db.squaredNorm();
-  const double s0 = side_of(db, b0, a0), s1 = side_of(db, b0, a1);  // a's corners against b's edge
-  const double t0 = side_of(da, a0, b0), t1 = side_of(da, a0, b1);  // b's corners against a's edge
+// other (entering: from the right, outside, to the left), or false: every corner involved lies
+// clearly on its side of the other edge's line. The point lies on a's edge, at the parameter
+// the clip computes.
+template <bool entering>
+bool proper_crossing(const Vec2* a, int na, int i, const Vec2* b, int nb, int k, double margin2, Point& x) {
+  const Point a0 = point_at(a, i), a1 = point_at(a, next_index(i, na));
+  const Point b0 = point_at(b, k), b1 = point_at(b, next_index(k, nb));
+  const double dax = a1.x - a0.x, day = a1.y - a0.y, dbx = b1.x - b0.x, dby = b1.y - b0.y;
+  const double s0 = side_of(dbx, dby, b0, a0), s1 = side_of(dbx, dby, b0, a1);  // a's corners against b's edge
+  const double t0 = side_of(dax, day, a0, b0), t1 = side_of(dax, day, a0, b1);  // b's corners against a's edge
   // Entering b, a goes from outside to inside b's edge, and b's edge from inside a to outside.
-  const bool ok = entering ? clearly_right(s0, db2, margin2) && clearly_left(s1, db2, margin2) &&
-                                 clearly_left(t0, da2, margin2) && clearly_right(t1, da2, margin2)
-                           : clearly_left(s0, db2, margin2) && clearly_right(s1, db2, margin2) &&
-                                 clearly_right(t0, da2, margin2) && clearly_left(t1, da2, margin2);
-  if (!ok) return false;
-  x = a0 + (s0 / (s0 - s1)) * da;
+  const bool signs = entering ? (s0 < 0.0 && s1 > 0.0 && t0 > 0.0 && t1 < 0.0)
+                              : (s0 > 0.0 && s1 < 0.0 && t0 < 0.0 && t1 > 0.0);
+  if (!signs) return false;
+  const double ma = margin2 * (dax * dax + day * day), mb = margin2 * (dbx * dbx + dby * dby);
+  if (!(s0 * s0 > mb && s1 * s1 > mb && t0 * t0 > ma && t1 * t1 > ma)) return false;
+  const double t = s0 / (s0 - s1);
+  x = {a0.x + t * dax, a0.y + t * day};
   return true;
 }
 
 // A triangle (counter-clockwise) with its edges, to test points against it.
 struct Triangle {
-  Vec2 corner[3], edge[3];
-  double edge2[3];
-  Triangle(const Vec2& p0, const Vec2& p1, const Vec2& p2) : corner{p0, p1, p2} {
+  Point corner[3];
+  double dx[3], dy[3], length2[3];
+  Triangle(const Point& p0, const Point& p1, const Point& p2) : corner{p0, p1, p2} {
     for (int m = 0; m < 3; ++m) {
-      edge[m] = corner[m == 2 ? 0 : m + 1] - corner[m];
-      edge2[m] = edge[m].squaredNorm();
+      const Point& next = corner[m == 2 ? 0 : m + 1];
+      dx[m] = next.x - corner[m].x;
+      dy[m] = next.y - corner[m].y;
+      length2[m] = dx[m] * dx[m] + dy[m] * dy[m];
     }
   }
-  bool clearly_contains(const Vec2& p, double margin2) const {
-    for (int m = 0; m < 3; ++m)
-      if (!clearly_left(side_of(edge[m], corner[m], p), edge2[m], margin2)) return false;
+  bool clearly_contains(const Point& p, double margin2) const {
+    for (int m = 0; m < 3; ++m) {
+      const double side = side_of(dx[m], dy[m], corner[m], p);
+      if (!(side > 0.0 && side * side > margin2 * length2[m])) return false;
+    }
     return true;
   }
 };
@@ -292,50 +314,59 @@ bool two_crossing_overlap(const Vec2* a, int na, const Vec2& centroid_a, const V
   const int i = edge[0], k = edge[1], j = edge[2], l = edge[3];
   if (i >= na || j >= na || k >= nb || l >= nb) return false;
   const double margin2 = margin * margin;
-  Vec2 x1, x2;
-  if (!proper_crossing(a, na, i, b, nb, k, true, margin2, x1)) return false;
-  if (!proper_crossing(a, na, j, b, nb, l, false, margin2, x2)) return false;
+  Point x1, x2;
+  if (!proper_crossing<true>(a, na, i, b, nb, k, margin2, x1)) return false;
+  if (!proper_crossing<false>(a, na, j, b, nb, l, margin2, x2)) return false;
+  const double lx = x2.x - x1.x, ly = x2.y - x1.y;  // the chord, X1 to X2
   // The chains of corners between the crossings: a's from i+1 to j, b's from l+1 to k.
   const int a_chain = j >= i ? j - i : j - i + na, b_chain = k >= l ? k - l : k - l + nb;
   if (a_chain == 0 && b_chain == 0) return false;  // two segments cannot cross twice
   // On one edge both crossings lie on it in the order the path takes.
-  if (a_chain == 0 && (x2 - x1).dot(a[next_index(i, na)] - a[i]) <= 0.0) return false;
-  if (b_chain == 0 && (x1 - x2).dot(b[next_index(k, nb)] - b[k]) <= 0.0) return false;
+  if (a_chain == 0) {
+    const Point a0 = point_at(a, i), a1 = point_at(a, next_index(i, na));
+    if (lx * (a1.x - a0.x) + ly * (a1.y - a0.y) <= 0.0) return false;
+  }
+  if (b_chain == 0) {
+    const Point b0 = point_at(b, k), b1 = point_at(b, next_index(k, nb));
+    if (-lx * (b1.x - b0.x) - ly * (b1.y - b0.y) <= 0.0) return false;
+  }
   // Each chain must lie inside the other shape. The triangle of the chord and the other
   // shape's centroid lies inside that shape (it is convex), and holds the corners of a shallow
   // contact: three cross products prove what testing every edge would.
   if (a_chain > 0) {
-    const Triangle in_b(x2, x1, centroid_b);
-    for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na))
-      if (!in_b.clearly_contains(a[v], margin2) && !clearly_inside(a[v], b, nb, margin2)) return false;
+    const Triangle in_b(x2, x1, {centroid_b.x(), centroid_b.y()});
+    for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na)) {
+      const Point p = point_at(a, v);
+      if (!in_b.clearly_contains(p, margin2) && !clearly_inside(p, b, nb, margin2)) return false;
+    }
   }
   if (b_chain > 0) {
-    const Triangle in_a(x1, x2, centroid_a);
-    for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb))
-      if (!in_a.clearly_contains(b[v], margin2) && !clearly_inside(b[v], a, na, margin2)) return false;
+    const Triangle in_a(x1, x2, {centroid_a.x(), centroid_a.y()});
+    for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb)) {
+      const Point p = point_at(b, v);
+      if (!in_a.clearly_contains(p, margin2) && !clearly_inside(p, a, na, margin2)) return false;
+    }
   }
-
-  // Shoelace about X1, so that the round-off scales with the overlap, not with |X1|.
-  double a2 = 0.0;
-  Vec2 previous(0, 0);  // X1 - X1
-  const auto add = [&](const Vec2& p) {
-    const Vec2 local = p - x1;
-    a2 += cross(previous, local);
-    previous = local;
+  // Shoelace about X1, so that the round-off scales with the overlap, not with |X1|. The
+  // closing edge back to X1 contributes nothing.
+  double a2 = 0.0, px = 0.0, py = 0.0;  // px, py: the last corner, relative to X1
+  const auto add = [&](const Point& p) {
+    const double qx = p.x - x1.x, qy = p.y - x1.y;
+    a2 += px * qy - py * qx;
+    px = qx;
+    py = qy;
   };
-  for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na)) add(a[v]);
+  for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na)) add(point_at(a, v));
   add(x2);
-  for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb)) add(b[v]);
-  // (the closing edge back to X1 contributes cross(previous, 0) = 0)
+  for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb)) add(point_at(b, v));
   const double area = 0.5 * a2;
   if (!(area > 0.0)) return false;
-  const Vec2 line = x2 - x1;
-  const double chord = line.norm();
+  const double chord = std::sqrt(lx * lx + ly * ly);
   if (!(chord > margin)) return false;
   o.area = area;
   o.chord = chord;
-  o.normal = outward(line) / chord;
-  o.point = 0.5 * (x1 + x2);
+  o.normal = Vec2(ly / chord, -lx / chord);  // outward(X2 - X1) / chord
+  o.point = Vec2(0.5 * (x1.x + x2.x), 0.5 * (x1.y + x2.y));
   o.crossings = 2;
   return true;
 }

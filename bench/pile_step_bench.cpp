@@ -99,8 +99,8 @@ void BM_PileStep(benchmark::State& state) {
   const double total = p.total() - before.total();
   state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;
   state.counters["share_broad"] = (p.broad_phase - before.broad_phase) / total;
-  state.counters["share_geometry"] = (p.geometry - before.geometry) / total;
-  state.counters["share_predict_correct"] = (p.predict - before.predict + p.correct - before.correct) / total;
+  state.counters["share_move"] = (p.move - before.move) / total;
+  state.counters["share_gather_correct"] = (p.gather_correct - before.gather_correct) / total;
   state.SetLabel(scheme_name(scheme));
 }
 // Arg: 0 Gear 5, 1 Verlet, 2 leapfrog. Rates per second of wall time (UseRealTime): with threads

@@ -27,75 +27,78 @@ void MotionState::resize(std::size_t bodies) {
 }
 
 namespace {
-// Below this many bodies a parallel loop costs more than it saves.
-constexpr int parallel_threshold = 256;
-
 // Gear's corrector coefficients for a second-order equation whose forces depend on velocity,
 // in the scaled form (r_k = dt^k / k! * k-th derivative): r_k += alpha_k * (dt^2/2) * (a - a_p).
 constexpr double gear_alpha[6] = {3.0 / 16.0, 251.0 / 360.0, 1.0, 11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0};
 }  // namespace
 
-void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt) {
+Stepper::Stepper(Scheme s, double dt) : scheme_(s), dt_(dt) {
+  const double h = dt, h2 = h * h / 2.0, h3 = h2 * h / 3.0, h4 = h3 * h / 4.0, h5 = h4 * h / 5.0;
+  taylor_[0] = h, taylor_[1] = h2, taylor_[2] = h3, taylor_[3] = h4, taylor_[4] = h5;
+  // Unscaled form of r_k += alpha_k * (dt^2/2) * delta_a, with r_k = dt^k/k! d_k.
+  gain_[0] = gear_alpha[0] * dt * dt / 2.0;
+  gain_[1] = gear_alpha[1] * dt / 2.0;
+  gain_[2] = 1.0;
+  gain_[3] = gear_alpha[3] * 3.0 / dt;
+  gain_[4] = gear_alpha[4] * 12.0 / (dt * dt);
+  gain_[5] = gear_alpha[5] * 60.0 / (dt * dt * dt);
+  // The velocity the forces see: extrapolated to t + dt (Verlet, second order) or the
+  // half-step one (leapfrog, first order in the damping but more stable with it).
+  force_velocity_lead_ = s == Scheme::verlet ? dt : 0.5 * dt;
+}
+
+void Stepper::predict(MotionState& m, int i) const {
   auto& d = m.d;
-  if (s == Scheme::gear5) {
-    const double h = dt, h2 = h * h / 2.0, h3 = h2 * h / 3.0, h4 = h3 * h / 4.0, h5 = h4 * h / 5.0;
-    const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
-    for (int k = 0; k < n; ++k)
-      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
-        // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
-        d[0][c] += h * d[1][c] + h2 * d[2][c] + h3 * d[3][c] + h4 * d[4][c] + h5 * d[5][c];
-        d[1][c] += h * d[2][c] + h2 * d[3][c] + h3 * d[4][c] + h4 * d[5][c];
-        d[2][c] += h * d[3][c] + h2 * d[4][c] + h3 * d[5][c];
-        d[3][c] += h * d[4][c] + h2 * d[5][c];
-        d[4][c] += h * d[5][c];
-      }
+  if (scheme_ == Scheme::gear5) {
+    const double h = taylor_[0], h2 = taylor_[1], h3 = taylor_[2], h4 = taylor_[3], h5 = taylor_[4];
+    for (int c = 3 * i; c < 3 * i + 3; ++c) {
+      // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
+      d[0][c] += h * d[1][c] + h2 * d[2][c] + h3 * d[3][c] + h4 * d[4][c] + h5 * d[5][c];
+      d[1][c] += h * d[2][c] + h2 * d[3][c] + h3 * d[4][c] + h4 * d[5][c];
+      d[2][c] += h * d[3][c] + h2 * d[4][c] + h3 * d[5][c];
+      d[3][c] += h * d[4][c] + h2 * d[5][c];
+      d[4][c] += h * d[5][c];
+    }
   } else {
-    // The velocity the forces see: extrapolated to t + dt (Verlet, second order) or the
-    // half-step one (leapfrog, first order in the damping but more stable with it).
-    const double force_velocity_lead = s == Scheme::verlet ? dt : 0.5 * dt;
-    const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
-    for (int k = 0; k < n; ++k)
-      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
-        m.half_velocity[c] = d[1][c] + 0.5 * dt * d[2][c];
-        d[0][c] += dt * m.half_velocity[c];
-        d[1][c] += force_velocity_lead * d[2][c];
-      }
+    for (int c = 3 * i; c < 3 * i + 3; ++c) {
+      m.half_velocity[c] = d[1][c] + 0.5 * dt_ * d[2][c];
+      d[0][c] += dt_ * m.half_velocity[c];
+      d[1][c] += force_velocity_lead_ * d[2][c];
+    }
   }
+}
+
+void Stepper::correct(MotionState& m, int i, const double* accel) const {
+  auto& d = m.d;
+  if (scheme_ == Scheme::gear5) {
+    for (int c = 0; c < 3; ++c) {
+      const int q = 3 * i + c;
+      const double delta = accel[c] - d[2][q];
+      d[0][q] += gain_[0] * delta;
+      d[1][q] += gain_[1] * delta;
+      d[2][q] = accel[c];
+      d[3][q] += gain_[3] * delta;
+      d[4][q] += gain_[4] * delta;
+      d[5][q] += gain_[5] * delta;
+    }
+  } else {
+    for (int c = 0; c < 3; ++c) {
+      const int q = 3 * i + c;
+      d[2][q] = accel[c];
+      d[1][q] = m.half_velocity[q] + 0.5 * dt_ * accel[c];
+    }
+  }
+}
+
+void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt) {
+  const Stepper stepper(s, dt);
+  for (int i : bodies) stepper.predict(m, i);
 }
 
 void correct(Scheme s, MotionState& m, const std::vector<double>& accel, const std::vector<int>& bodies,
              double dt) {
-  auto& d = m.d;
-  if (s == Scheme::gear5) {
-    // Unscaled form of r_k += alpha_k * (dt^2/2) * delta_a, with r_k = dt^k/k! d_k.
-    const double c0 = gear_alpha[0] * dt * dt / 2.0;
-    const double c1 = gear_alpha[1] * dt / 2.0;
-    const double c3 = gear_alpha[3] * 3.0 / dt;
-    const double c4 = gear_alpha[4] * 12.0 / (dt * dt);
-    const double c5 = gear_alpha[5] * 60.0 / (dt * dt * dt);
-    const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
-    for (int k = 0; k < n; ++k)
-      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
-        const double delta = accel[c] - d[2][c];
-        d[0][c] += c0 * delta;
-        d[1][c] += c1 * delta;
-        d[2][c] = accel[c];
-        d[3][c] += c3 * delta;
-        d[4][c] += c4 * delta;
-        d[5][c] += c5 * delta;
-      }
-  } else {
-    const int n = static_cast<int>(bodies.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
-    for (int k = 0; k < n; ++k)
-      for (int c = 3 * bodies[k]; c < 3 * bodies[k] + 3; ++c) {
-        d[2][c] = accel[c];
-        d[1][c] = m.half_velocity[c] + 0.5 * dt * accel[c];
-      }
-  }
+  const Stepper stepper(s, dt);
+  for (int i : bodies) stepper.correct(m, i, &accel[3 * i]);
 }
 
 double stability_limit_omega_dt(Scheme s, double zeta) {

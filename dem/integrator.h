@@ -30,6 +30,26 @@ struct MotionState {
   std::size_t bodies() const { return d[0].size() / 3; }
 };
 
+/// One time step of a scheme with its coefficients worked out once, applied body by body: the
+/// World calls it inside its own loops over the grains.
+class Stepper {
+ public:
+  Stepper(Scheme s, double dt);
+  /// Advances body i's positions (and for Gear all derivatives) from t to t + dt; afterwards
+  /// d[1] holds the velocity the force law should use.
+  void predict(MotionState& m, int i) const;
+  /// Applies the accelerations evaluated at the predicted state (x, y, theta) to complete the
+  /// step of body i.
+  void correct(MotionState& m, int i, const double* accel) const;
+
+ private:
+  Scheme scheme_;
+  double dt_;
+  double taylor_[5];  // Gear: h, h^2/2, h^3/6, h^4/24, h^5/120
+  double gain_[6];    // Gear's corrector coefficients in unscaled form (gain_[2] unused)
+  double force_velocity_lead_;  // Verlet dt, leapfrog dt / 2
+};
+
 /// Advances positions (and for Gear all derivatives) from t to t + dt for the listed bodies;
 /// afterwards d[1] holds the velocity the force law should use.
 void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt);

@@ -204,9 +204,10 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
                              {"kinetic_energy_per_grain_J", e},
                              {"reached_threshold", e < scene.settle.kinetic_energy_per_grain}};
   }
-  r["profile_s"] = {{"predict", prof.predict},         {"geometry", prof.geometry},
-                    {"broad_phase", prof.broad_phase}, {"narrow_phase", prof.narrow_phase},
-                    {"correct", prof.correct}};
+  r["profile_s"] = {{"move", prof.move},
+                    {"broad_phase", prof.broad_phase},
+                    {"narrow_phase", prof.narrow_phase},
+                    {"gather_correct", prof.gather_correct}};
   r["neighbour_list_builds"] = w.neighbour_builds();
   return r;
 }

@@ -40,7 +40,6 @@ int World::append_body(const Shape& shape, double mass, double inertia, bool act
   active_.push_back(active ? 1 : 0);
   motion_.resize(shapes_.size());
   contact_force_.resize(3 * shapes_.size(), 0.0);
-  accel_.resize(3 * shapes_.size(), 0.0);
   vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
   world_vertices_.resize(vertex_offset_.back());
   return id;
@@ -173,61 +172,54 @@ void World::place_body(int body) {
   for (std::size_t k = 0; k < s.vertices.size(); ++k) out[k] = p + rotate(s.vertices[k], c, sn);
 }
 
+// One step, in four passes: each grain moves and takes its new shape; the pair list is renewed
+// if some body went beyond its margin; every listed pair collides; each grain sums its forces
+// and completes its step. The passes over the grains split them among the threads the same way,
+// so each thread keeps its grains' data in its own cache.
 void World::step() {
-  const double dt = settings_.time_step;
   auto t0 = Clock::now();
-  predict(settings_.scheme, motion_, active_grains_, dt);
-  for (int w : moving_walls_)  // prescribed motion: x += v dt
-    for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
-  profile_.predict += seconds_since(t0);
+  const bool list_outdated = move_grains();
+  profile_.move += seconds_since(t0);
 
   auto t1 = Clock::now();
-  place_shapes();
-  profile_.geometry += seconds_since(t1);
+  find_candidate_pairs(list_outdated);
+  profile_.broad_phase += seconds_since(t1);
 
   auto t2 = Clock::now();
-  find_candidate_pairs();
-  profile_.broad_phase += seconds_since(t2);
+  collide_and_compute_forces();
+  profile_.narrow_phase += seconds_since(t2);
 
   auto t3 = Clock::now();
-  collide_and_compute_forces();
-  gather_forces();  // and Newton (paper eq. 1): the accelerations from contact forces and gravity
-  profile_.narrow_phase += seconds_since(t3);
-
-  auto t4 = Clock::now();
-  correct(settings_.scheme, motion_, accel_, active_grains_, dt);
-  time_ += dt;
+  gather_and_correct();
+  time_ += settings_.time_step;
   ++steps_;
-  check_finite();
-  profile_.correct += seconds_since(t4);
+  profile_.gather_correct += seconds_since(t3);
 }
 
-void World::check_finite() const {
-  // The first grain (in body order) whose state is not finite; the loop over the grains is
-  // split among the threads as in every other loop over them.
+// The predictor and the grains' new corners; true if some body has gone farther than its
+// margin since the pair list was built.
+bool World::move_grains() {
+  const double dt = settings_.time_step;
+  const Stepper stepper(settings_.scheme, dt);
   const int n = static_cast<int>(active_grains_.size());
-  int first_bad = n;
-#pragma omp parallel for schedule(static) reduction(min : first_bad) if (n >= parallel_threshold)
+  const bool listed = !neighbours_stale_ && listed_margin_.size() == static_cast<std::size_t>(body_count());
+  bool outdated = !listed;
+#pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) {
     const int i = active_grains_[k];
-    bool finite = true;
-    for (int c = 0; c < 3; ++c)
-      finite = finite && std::isfinite(motion_.d[0][3 * i + c]) && std::isfinite(motion_.d[1][3 * i + c]);
-    if (!finite && k < first_bad) first_bad = k;
+    stepper.predict(motion_, i);
+    place_body(i);
+    if (listed) {
+      const double moved2 = (position(i) - listed_position_[i]).squaredNorm();
+      outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
+    }
   }
-  if (first_bad == n) return;
-  std::ostringstream s;
-  s << "the simulation became unstable at t = " << time_ << " s (step " << steps_ << "): grain "
-    << active_grains_[first_bad] << " has a non-finite position or velocity. Likely causes: a time step ("
-    << settings_.time_step << " s) above the stability limit, or bodies placed overlapping deeply";
-  throw std::runtime_error(s.str());
-}
-
-void World::place_shapes() {
-  const int n = static_cast<int>(active_grains_.size());
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
-  for (int k = 0; k < n; ++k) place_body(active_grains_[k]);
-  for (int w : moving_walls_) place_body(w);
+  for (int w : moving_walls_) {  // prescribed motion: x += v dt
+    for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
+    place_body(w);
+    if (listed) outdated = outdated || (position(w) - listed_position_[w]).squaredNorm() > listed_margin_[w] * listed_margin_[w];
+  }
+  return outdated;
 }
 
 namespace {
@@ -260,24 +252,11 @@ bool circle_meets_box(double x, double y, double r, const Vec2& lo, const Vec2& 
 // pair exactly, so the candidates are the same pairs as a fresh search every step would give:
 // no pair is ever missed, and the result does not depend on the margins or on when the list
 // was rebuilt.
-void World::find_candidate_pairs() {
-  if (neighbours_stale_ || neighbour_list_outdated()) build_neighbour_list();
+void World::find_candidate_pairs(bool list_outdated) {
+  if (list_outdated) build_neighbour_list();
   wall_lo_.resize(wall_count_);
   wall_hi_.resize(wall_count_);
   for (int w = 0; w < wall_count_; ++w) wall_box(shapes_[w], position(w), corners(w), corner_count(w), wall_lo_[w], wall_hi_[w]);
-}
-
-bool World::neighbour_list_outdated() const {
-  const int n = static_cast<int>(active_grains_.size());
-  bool outdated = false;
-#pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
-  for (int k = 0; k < n; ++k) {
-    const int i = active_grains_[k];
-    outdated = outdated || (position(i) - listed_position_[i]).squaredNorm() > listed_margin_[i] * listed_margin_[i];
-  }
-  for (int w : moving_walls_)
-    outdated = outdated || (position(w) - listed_position_[w]).squaredNorm() > listed_margin_[w] * listed_margin_[w];
-  return outdated;
 }
 
 void World::build_neighbour_list() {
@@ -580,8 +559,9 @@ void World::collide_and_compute_forces() {
 
 // Newton's third law, summed per body over its pairs in key order (the order of a serial loop
 // over the sorted pairs), so that the sums are the same whatever the threads. Pairs that do not
-// touch carry zeros, which leave a sum unchanged. Then each grain's acceleration (paper eq. 1).
-void World::gather_forces() {
+// touch carry zeros, which leave a sum unchanged. Then each grain's acceleration (paper eq. 1)
+// and the corrector, and a check that the grain's state is still finite.
+void World::gather_and_correct() {
   const auto sum_over_pairs = [this](int i) {
     double fx = 0.0, fy = 0.0, torque = 0.0;
     for (int k = body_pair_start_[i]; k < body_pair_start_[i + 1]; ++k) {
@@ -601,17 +581,30 @@ void World::gather_forces() {
     contact_force_[3 * i + 1] = fy;
     contact_force_[3 * i + 2] = torque;
   };
+  const Stepper stepper(settings_.scheme, settings_.time_step);
   const int n = static_cast<int>(active_grains_.size());
   const Vec2 g = settings_.gravity;
-#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+  int first_unstable = n;  // the first grain (in body order) whose state is not finite
+#pragma omp parallel for schedule(static) reduction(min : first_unstable) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) {
     const int i = active_grains_[k];
     sum_over_pairs(i);
-    accel_[3 * i] = contact_force_[3 * i] * inv_mass_[i] + g.x();
-    accel_[3 * i + 1] = contact_force_[3 * i + 1] * inv_mass_[i] + g.y();
-    accel_[3 * i + 2] = contact_force_[3 * i + 2] * inv_inertia_[i];
+    const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
+                             contact_force_[3 * i + 2] * inv_inertia_[i]};
+    stepper.correct(motion_, i, accel);
+    bool finite = true;
+    for (int c = 0; c < 3; ++c)
+      finite = finite && std::isfinite(motion_.d[0][3 * i + c]) && std::isfinite(motion_.d[1][3 * i + c]);
+    if (!finite && k < first_unstable) first_unstable = k;
   }
   for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);
+  if (first_unstable == n) return;
+  std::ostringstream s;
+  s << "the simulation became unstable at t = " << time_ + settings_.time_step << " s (step " << steps_ + 1
+    << "): grain " << active_grains_[first_unstable]
+    << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
+    << " s) above the stability limit, or bodies placed overlapping deeply";
+  throw std::runtime_error(s.str());
 }
 
 double World::kinetic_energy() const {

@@ -1,7 +1,7 @@
 #pragma once
 // The DEM world: bodies (walls first, then grains), their motion, the contacts with their
 // tangential history, and the step that advances them all by dt:
-//   predict -> place shapes -> find pairs -> collide and compute forces -> gather -> correct.
+//   move (predict, place shapes) -> find pairs -> collide and compute forces -> gather, correct.
 //
 // Pairs live on a Verlet list (sorted by pair key) that is rebuilt only when some body has
 // moved farther than its margin. Everything a pair carries from step to step sits beside its entry: the
@@ -51,8 +51,11 @@ struct DeepestOverlap {
 
 /// Wall-clock seconds spent in each phase of the step.
 struct StepProfile {
-  double predict = 0, geometry = 0, broad_phase = 0, narrow_phase = 0, correct = 0;
-  double total() const { return predict + geometry + broad_phase + narrow_phase + correct; }
+  double move = 0;            ///< predictor, the grains' corners in their new place (geometry)
+  double broad_phase = 0;     ///< renewing the pair list when a body left its margin; wall boxes
+  double narrow_phase = 0;    ///< every listed pair: overlap, contact law
+  double gather_correct = 0;  ///< each grain's sum of forces, Newton, corrector
+  double total() const { return move + broad_phase + narrow_phase + gather_correct; }
 };
 
 struct WorldSettings {
@@ -148,17 +151,15 @@ class World {
 
  private:
   int append_body(const Shape& shape, double mass, double inertia, bool active);
-  void place_shapes();
-  void find_candidate_pairs();
-  bool neighbour_list_outdated() const;
+  bool move_grains();
+  void find_candidate_pairs(bool list_outdated);
   void build_neighbour_list();
   void list_grain_pairs(double rest_margin);
   void carry_pair_history(const std::vector<std::uint64_t>& old_neighbours);
   void index_pairs_by_body();
   void collide_and_compute_forces();
-  void gather_forces();
+  void gather_and_correct();
   void place_body(int body);
-  void check_finite() const;
 
   WorldSettings settings_;
   int wall_count_ = 0;
@@ -175,7 +176,6 @@ class World {
   std::vector<int> moving_walls_;
   MotionState motion_;
   std::vector<double> contact_force_;  // 3 per body: fx, fy, torque
-  std::vector<double> accel_;
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> world_vertices_;
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step

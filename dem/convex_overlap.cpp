@@ -353,31 +353,11 @@ struct Triangle {
   return true;
 }
 
-// The overlap from the four crossing edges, if they prove a two-crossing configuration.
-// centroid_a and centroid_b must lie inside their polygons.
-[[gnu::always_inline]] inline bool two_crossing_overlap(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb, const Vec2& centroid_b,
-                          const std::uint8_t edge[4], double margin, Overlap& o) {
-  const int i = edge[0], k = edge[1], j = edge[2], l = edge[3];
-  if (i >= na || j >= na || k >= nb || l >= nb) return false;
+// The general two-crossing configuration (any chains of corners between the crossings).
+[[gnu::noinline]] bool general_two_crossing(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                            const Vec2& centroid_b, int i, int k, int j, int l, double margin,
+                                            Overlap& o) {
   const double margin2 = margin * margin;
-  // The two shapes of a shallow contact: a corner of a in an edge of b, or of b in an edge of a.
-  {
-    Point x1, x2;
-    double a2 = 0.0;
-    bool spelt_out = false;
-    if (k == l && j == next_index(i, na)) {
-      spelt_out = corner_in_edge(point_at(a, i), point_at(a, j), point_at(a, next_index(j, na)), point_at(b, k),
-                                 point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, margin2, x1, x2, a2);
-    } else if (i == j && k == next_index(l, nb)) {
-      // b's corner k in a's edge i: b's edges l -> k and k -> k+1 cross it at X2 and X1.
-      Point x_in, x_out;
-      spelt_out = corner_in_edge(point_at(b, l), point_at(b, k), point_at(b, next_index(k, nb)), point_at(a, i),
-                                 point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, margin2, x_in, x_out, a2);
-      x1 = x_out;
-      x2 = x_in;
-    }
-    if (spelt_out) return two_crossing_result(x1, x2, a2, margin, o);
-  }
   Point x1, x2;
   if (!proper_crossing<true>(a, na, i, b, nb, k, margin2, x1)) return false;
   if (!proper_crossing<false>(a, na, j, b, nb, l, margin2, x2)) return false;
@@ -424,6 +404,31 @@ struct Triangle {
   add(x2);
   for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb)) add(point_at(b, v));
   return two_crossing_result(x1, x2, a2, margin, o);
+}
+
+// The overlap from the four crossing edges, if they prove a two-crossing configuration.
+// centroid_a and centroid_b must lie inside their polygons. The two shapes of a shallow
+// contact, a corner of a in an edge of b or of b in an edge of a, are spelt out; the hot path of
+// the DEM is this function with those two branches.
+[[gnu::always_inline]] inline bool two_crossing_overlap(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b,
+                                                        int nb, const Vec2& centroid_b, const std::uint8_t edge[4],
+                                                        double margin, Overlap& o) {
+  const int i = edge[0], k = edge[1], j = edge[2], l = edge[3];
+  if (i >= na || j >= na || k >= nb || l >= nb) return false;
+  const double margin2 = margin * margin;
+  Point x1, x2;
+  double a2 = 0.0;
+  if (k == l && j == next_index(i, na)) {
+    if (corner_in_edge(point_at(a, i), point_at(a, j), point_at(a, next_index(j, na)), point_at(b, k),
+                       point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, margin2, x1, x2, a2))
+      return two_crossing_result(x1, x2, a2, margin, o);
+  } else if (i == j && k == next_index(l, nb)) {
+    // b's corner k in a's edge i: b's edges l -> k and k -> k+1 cross it at X2 and X1.
+    if (corner_in_edge(point_at(b, l), point_at(b, k), point_at(b, next_index(k, nb)), point_at(a, i),
+                       point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, margin2, x2, x1, a2))
+      return two_crossing_result(x1, x2, a2, margin, o);
+  }
+  return general_two_crossing(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin, o);
 }
 
 // A corner set lies clearly outside the edge's line: the edge separates the two shapes.
@@ -509,33 +514,27 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   return overlap_polygons(a, na, centroid_a, b, nb, centroid_b, longest_edge, hint);
 }
 
-Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
-                         const Vec2& centroid_b, double longest_edge, OverlapHint& hint) {
+namespace {
+// The projections of the two shapes on the line of centres do not meet.
+inline bool separated_along_centres(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                    const Vec2& centroid_b) {
+  const double ax = centroid_b.x() - centroid_a.x(), ay = centroid_b.y() - centroid_a.y();
+  double max_a = -INFINITY, min_b = INFINITY;
+  for (int i = 0; i < na; ++i) max_a = std::max(max_a, ax * a[i].x() + ay * a[i].y());
+  for (int k = 0; k < nb; ++k) min_b = std::min(min_b, ax * b[k].x() + ay * b[k].y());
+  return max_a < min_b;
+}
+
+// Everything but the hint's answer: the line of centres, a search for the crossing edges or a
+// separating edge, and the clip.
+[[gnu::noinline]] Overlap search_overlap(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                         const Vec2& centroid_b, double longest_edge, OverlapHint& hint) {
   const double margin = clear_margin * longest_edge, margin2 = margin * margin;
   Overlap o;
-  // What the pair was last step, if it still holds.
-  switch (hint.kind) {
-    case OverlapHint::crossing:
-      if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
-      break;
-    case OverlapHint::separated_by_a:
-      if (separates(a, na, hint.edge[0], b, nb, margin2)) return o;
-      break;
-    case OverlapHint::separated_by_b:
-      if (separates(b, nb, hint.edge[0], a, na, margin2)) return o;
-      break;
-    default: break;
-  }
   // The line of centres separates most of the pairs that do not touch.
-  {
-    const Vec2 axis = centroid_b - centroid_a;
-    double max_a = -INFINITY, min_b = INFINITY;
-    for (int i = 0; i < na; ++i) max_a = std::max(max_a, axis.dot(a[i]));
-    for (int k = 0; k < nb; ++k) min_b = std::min(min_b, axis.dot(b[k]));
-    if (max_a < min_b) {
-      hint.kind = OverlapHint::none;
-      return o;
-    }
+  if (hint.kind != OverlapHint::separated_along_centres && separated_along_centres(a, na, centroid_a, b, nb, centroid_b)) {
+    hint.kind = OverlapHint::separated_along_centres;
+    return o;
   }
   switch (find_edges(a, na, b, nb, margin2, hint)) {
     case Search::separated: return o;
@@ -546,6 +545,30 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
   }
   hint.kind = OverlapHint::none;
   return clipped_overlap(a, na, centroid_a, b, nb, centroid_b, longest_edge);
+}
+}  // namespace
+
+Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                         const Vec2& centroid_b, double longest_edge, OverlapHint& hint) {
+  const double margin = clear_margin * longest_edge;
+  // What the pair was last step, if it still holds.
+  Overlap o;
+  switch (hint.kind) {
+    case OverlapHint::crossing:
+      if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
+      break;
+    case OverlapHint::separated_by_a:
+      if (separates(a, na, hint.edge[0], b, nb, margin * margin)) return o;
+      break;
+    case OverlapHint::separated_by_b:
+      if (separates(b, nb, hint.edge[0], a, na, margin * margin)) return o;
+      break;
+    case OverlapHint::separated_along_centres:
+      if (separated_along_centres(a, na, centroid_a, b, nb, centroid_b)) return o;
+      break;
+    default: break;
+  }
+  return search_overlap(a, na, centroid_a, b, nb, centroid_b, longest_edge, hint);
 }
 
 namespace {

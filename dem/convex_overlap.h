@@ -32,10 +32,11 @@ struct Overlap {
 /// overlap is the same whatever it holds (stale, wrong or empty), so it need not be saved in a
 /// checkpoint, and a pair seen for the first time starts from the default.
 struct OverlapHint {
-  enum Kind : std::uint8_t { none = 0, crossing = 1, separated_by_a = 2, separated_by_b = 3 };
+  enum Kind : std::uint8_t { none = 0, crossing = 1, separated_by_a = 2, separated_by_b = 3, separated_along_centres = 4 };
   std::uint8_t kind = none;
   /// crossing: a's edge where a's boundary enters b, b's edge there, a's edge where it leaves
-  /// b, b's edge there; separated: the separating edge in [0]. Edge e joins corners e and e+1.
+  /// b, b's edge there; separated_by_a or _b: the separating edge in [0] (edge e joins corners
+  /// e and e+1); separated_along_centres: the line of centres separated the shapes.
   std::uint8_t edge[4] = {0, 0, 0, 0};
 };
 

@@ -41,6 +41,7 @@ int World::append_body(const Shape& shape, double mass, double inertia, bool act
   motion_.resize(shapes_.size());
   contact_force_.resize(3 * shapes_.size(), 0.0);
   vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
+  body_vertices_.insert(body_vertices_.end(), shape.vertices.begin(), shape.vertices.end());
   world_vertices_.resize(vertex_offset_.back());
   return id;
 }
@@ -162,14 +163,19 @@ void World::restore_activity(const std::vector<std::uint8_t>& active) {
 }
 
 void World::place_body(int body) {
-  const Shape& s = shapes_[body];
-  if (s.vertices.empty()) return;
+  const int first = vertex_offset_[body], count = vertex_offset_[body + 1] - first;
+  if (count == 0) return;  // a disc
   const double th = motion_.d[0][3 * body + 2];
   double sn, c;
   portable_sincos(th, sn, c);  // one reduction for both
-  const Vec2 p(motion_.d[0][3 * body], motion_.d[0][3 * body + 1]);
-  Vec2* out = &world_vertices_[vertex_offset_[body]];
-  for (std::size_t k = 0; k < s.vertices.size(); ++k) out[k] = p + rotate(s.vertices[k], c, sn);
+  const double px = motion_.d[0][3 * body], py = motion_.d[0][3 * body + 1];
+  // p + R(theta) v for each body-frame corner v (vec2.h's rotate, in plain doubles).
+  const Vec2* from = &body_vertices_[first];
+  Vec2* out = &world_vertices_[first];
+  for (int k = 0; k < count; ++k) {
+    const double vx = from[k].x(), vy = from[k].y();
+    out[k] = Vec2(px + (c * vx - sn * vy), py + (sn * vx + c * vy));
+  }
 }
 
 // One step, in four passes: each grain moves and takes its new shape; the pair list is renewed
@@ -493,29 +499,35 @@ void World::collide_and_compute_forces() {
 
       Contact& ct = pair_contact_[q];
       const double old_spring = touched ? ct.spring : 0.0;
-      const Vec2 old_normal = touched ? ct.normal : Vec2(0.0, 0.0);
-      const Vec2 ra = o.point - pa, rb = o.point - pb;
-      const Vec2 ua = velocity(a) + cross(angular_velocity(a), ra);
-      const Vec2 ub = velocity(b) + cross(angular_velocity(b), rb);
-      const Vec2 t = perp(o.normal);
+      const double old_nx = touched ? ct.normal.x() : 0.0, old_ny = touched ? ct.normal.y() : 0.0;
+      // The kinematics at the force point, in plain doubles (the vector forms of vec2.h cost
+      // packing in this loop; the same operations in the same order).
+      const double nx = o.normal.x(), ny = o.normal.y();
+      const double rax = o.point.x() - pa.x(), ray = o.point.y() - pa.y();
+      const double rbx = o.point.x() - pb.x(), rby = o.point.y() - pb.y();
+      const double wa = angular_velocity(a), wb = angular_velocity(b);
+      const double uax = motion_.d[1][3 * a] + -wa * ray, uay = motion_.d[1][3 * a + 1] + wa * rax;
+      const double ubx = motion_.d[1][3 * b] + -wb * rby, uby = motion_.d[1][3 * b + 1] + wb * rbx;
+      const double dux = uax - ubx, duy = uay - uby;
+      const double ra2 = rax * rax + ray * ray, rb2 = rbx * rbx + rby * rby;
       ContactKinematics k;
       k.area = o.area;
       k.chord = o.chord;
       // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
       // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
       // than depending on the distance to the wall's centroid.
-      k.lever_a = is_wall(a) ? INFINITY : std::max(ra.norm(), 0.5 * sa.inner_radius);
-      k.lever_b = std::max(rb.norm(), 0.5 * sb.inner_radius);
-      k.approach_speed = o.normal.dot(ua - ub);
-      k.slip_speed = t.dot(ua - ub);
-      k.normal_mass = 1.0 / (inv_mass_[a] + inv_mass_[b]);
-      k.tangential_mass = 1.0 / (inv_mass_[a] + inv_mass_[b] + ra.squaredNorm() * inv_inertia_[a] +
-                                 rb.squaredNorm() * inv_inertia_[b]);
+      k.lever_a = is_wall(a) ? INFINITY : std::max(std::sqrt(ra2), 0.5 * sa.inner_radius);
+      k.lever_b = std::max(std::sqrt(rb2), 0.5 * sb.inner_radius);
+      k.approach_speed = nx * dux + ny * duy;
+      k.slip_speed = -ny * dux + nx * duy;  // along t = perp(n)
+      const double inverse_masses = inv_mass_[a] + inv_mass_[b];
+      k.normal_mass = 1.0 / inverse_masses;
+      k.tangential_mass = 1.0 / (inverse_masses + ra2 * inv_inertia_[a] + rb2 * inv_inertia_[b]);
       const double l = contact_length(law, k.lever_a, k.lever_b);
       // The spring is a vector in the contact plane: as the normal turns, keep its projection on
       // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
       // degrees in one step (a jump to another edge) starts afresh.
-      const double turn = old_normal.dot(o.normal);
+      const double turn = old_nx * nx + old_ny * ny;
       const double spring = turn > 0.5 ? turn * old_spring : 0.0;
       const ContactForce f = dem::contact_force(law, k, l, spring, dt);
 
@@ -529,8 +541,9 @@ void World::collide_and_compute_forces() {
       ct.area = o.area;
       ct.chord = o.chord;
       pair_touching_[q] = 1;
-      const Vec2 force = ct.force_on_b();
-      pair_load_[q] = {force.x(), force.y(), cross(ra, force), cross(rb, force)};
+      // The force on b, normal_force n + tangential_force t, and its torques about both centroids.
+      const double fx = f.normal * nx + f.tangential * -ny, fy = f.normal * ny + f.tangential * nx;
+      pair_load_[q] = {fx, fy, rax * fy - ray * fx, rbx * fy - rby * fx};
       ++touching_pairs;
       // The overlap is convex and the chord joins two points of its boundary, so no point of it
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.

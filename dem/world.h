@@ -177,7 +177,7 @@ class World {
   MotionState motion_;
   std::vector<double> contact_force_;  // 3 per body: fx, fy, torque
   std::vector<int> vertex_offset_{0};
-  std::vector<Vec2> world_vertices_;
+  std::vector<Vec2> body_vertices_, world_vertices_;  // every polygon's corners, in its frame and placed
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
   // Verlet list: pairs within reach at the last build, where every body was then, and how far
   // each may move before the list must be built again.

@@ -760,7 +760,7 @@ TEST(ConvexOverlap, TheHintNeverChangesTheResult) {
     EXPECT_TRUE(same_bits(run(b, from_nudged), reference)) << "with the hint of a nudged placement";
     for (int g = 0; g < 8; ++g) {
       OverlapHint garbage;
-      garbage.kind = static_cast<std::uint8_t>(rng.uniform_int(0, 4));
+      garbage.kind = static_cast<std::uint8_t>(rng.uniform_int(0, 6));  // every kind, and two that are none
       for (auto& e : garbage.edge) e = static_cast<std::uint8_t>(rng.uniform_int(0, 15));
       EXPECT_TRUE(same_bits(run(b, garbage), reference)) << "with garbage hint " << g;
     }

@@ -2,25 +2,33 @@
 // figures). A stage runs when its table is in the scene; it is skipped, and says so, when its
 // table and its input files are unchanged since its outputs were written (OUT/stages.json
 // keeps a fingerprint per stage); --force runs every stage.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 #include "apps/commands.h"
+#include "apps/ensemble_members.h"
+#include "apps/parallel.h"
 #include "coarse/coarse_run.h"
 #include "common/atomic_file.h"
+#include "common/ensemble.h"
 #include "common/error.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
+#include "common/scene_tables.h"
 #include "compare/compare_run.h"
+#include "dem/dem_result.h"
 #include "dem/pile_run.h"
 #include "mesh/mesh_run.h"
 #ifdef PILELAB_WITH_CONTINUUM
@@ -36,7 +44,9 @@ struct RunOptions {
   std::string out_dir;
   bool force = false;
   bool quiet = false;
+  bool restart = false;  ///< the DEM continues from OUT/checkpoint.h5 (members always continue from theirs)
   int threads = 0;
+  int processes = 1;     ///< ensemble members poured side by side as processes
 };
 
 // FNV-1a, 64 bit: a fingerprint, not a security hash.
@@ -58,7 +68,8 @@ struct Stage {
   std::vector<std::string> tables;   ///< scene tables the stage reads
   std::vector<std::string> inputs;   ///< files in OUT/ it reads
   std::vector<std::string> external; ///< files elsewhere it reads (scene path keys), absolute
-  std::vector<std::string> outputs;  ///< files in OUT/ it writes (all must exist to skip)
+  std::vector<std::string> outputs;  ///< files in OUT/ it writes (all must exist to skip; none: never skipped)
+  bool every_rank = false;           ///< under mpirun, every rank takes part (else rank 0 alone)
   std::function<void()> run;
 };
 
@@ -83,8 +94,10 @@ double report_number(const nlohmann::json& report, const std::string& section, c
 
 // The scene for the solve stage: the user's, with what the DEM measured filled in where the
 // [continuum] table leaves it open: the bulk density of the pile (coarse) and its repose
-// angles (dem), so the models carry the same load and closure as the pile they are compared to.
-std::string solve_scene(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report) {
+// angles (the pile's, or an ensemble's means), so the models carry the same load and closure as
+// the pile they are compared to.
+std::string solve_scene(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report,
+                        const std::optional<mesh::Wedge>& measured) {
   toml::table root = toml::parse_file(scene_path);
   const std::string scene_dir = std::filesystem::path(scene_path).parent_path().string();
   make_absolute(root, "continuum", "mesh_file", scene_dir);
@@ -95,18 +108,13 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
     c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
   if (!c.contains("gravity_m_per_s2") && report.contains("coarse"))
     c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
-  if (report.contains("dem")) {
-    const auto& d = report["dem"];
-    const bool measured = d.is_object() && d.value("repose_angle_left_deg", nlohmann::json()).is_number() &&
-                          d.value("repose_angle_right_deg", nlohmann::json()).is_number();
+  if (measured) {
     if (!c["fpa"].as_table()) c.insert("fpa", toml::table{});
     toml::table& f = *c["fpa"].as_table();
-    if (measured && !f.contains("repose_angle_deg") && !f.contains("left_repose_angle_deg")) {
-      const double l = d["repose_angle_left_deg"].get<double>(), r = d["repose_angle_right_deg"].get<double>();
-      if (l > 0 && l < 45 && r > 0 && r < 45) {
-        f.insert("left_repose_angle_deg", l);
-        f.insert("right_repose_angle_deg", r);
-      }
+    const double l = measured->left_angle_deg, r = measured->right_angle_deg;
+    if (!f.contains("repose_angle_deg") && !f.contains("left_repose_angle_deg") && l > 0 && l < 45 && r > 0 && r < 45) {
+      f.insert("left_repose_angle_deg", l);
+      f.insert("right_repose_angle_deg", r);
     }
   }
   std::ostringstream text;
@@ -117,63 +125,129 @@ std::string solve_scene(const std::string& scene_path, const std::string& out_di
 }
 
 // The closed loop of the fit: the gravity change solved with the fitted isotropic constants,
-// its displacement and strain against the DEM's. The solver runs as a child process (MPI can
-// be initialised once per process, and the solve stage may already have done so).
-void closed_loop(const std::string& out_dir, const nlohmann::json& report) {
+// its displacement and strain against the DEM's. Three parts, since the solve in the middle is
+// collective over the MPI ranks: the scene of the solve (rank 0; empty when there is nothing to
+// solve, the section already written), the solve (every rank), and the comparison (rank 0).
+std::string closed_loop_scene(const std::string& out_dir, const nlohmann::json& report) {
   if (!report.contains("coarse") || !report.contains("fit") || !report["fit"].is_object() ||
       !report["fit"].value("models", nlohmann::json::object()).contains("isotropic"))
-    return;
+    return "";
   const auto& iso = report["fit"]["models"]["isotropic"];
   const auto constant = [&](const char* key) {  // null when the fit had no data
     return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;
   };
   const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
   const double nu = lambda / (2 * (lambda + mu));
-  nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
+  const auto& coarse = report["coarse"];
+  // The gravity change the DEM's strains come from, as coarse measured it from the snapshots.
+  const double change = coarse.value("gravity_change", 0.0);
+  if (change == 0.0) return "";
   if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
-    result["skipped"] = "the fitted constants are not a stable isotropic material";
-  } else {
-    // The gravity change the DEM's strains come from, as coarse measured it from the snapshots.
-    const auto& coarse = report["coarse"];
-    const double change = coarse.value("gravity_change", 0.0);
-    if (change == 0.0) return;
-    toml::table root;
-    toml::table c;
-    c.insert("models", toml::array{"elastic"});
-    // The mesh the fields live on; absolute, since the child resolves paths from its scene's dir.
-    c.insert("mesh_file", std::filesystem::absolute(coarse["mesh_file"].get<std::string>()).string());
-    c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
-    c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
-    toml::table e;
-    e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
-    e.insert("shear_modulus_N_per_m", mu);
-    e.insert("gravity_change", change);
-    c.insert("elastic", e);
-    root.insert("continuum", c);
-    const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
-    std::filesystem::create_directories(dir);
-    std::ostringstream text;
-    text << root;
-    write_text_atomically(dir + "/scene.toml", text.str() + "\n");
-    const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-    const std::string cmd = "'" + self + "' solve '" + dir + "/scene.toml' -o '" + dir + "' > '" + dir + "/solve.log' 2>&1";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("closed loop: " + cmd + " failed (see solve.log)");
-    result.update(compare::compare_displacements((std::filesystem::path(out_dir) / "fields.h5").string(),
-                                                 dir + "/models.h5", "elastic"));
-    result["lame_lambda_used_N_per_m"] = std::max(lambda, 0.0);
-    result["directory"] = "closed_loop";
+    nlohmann::json fit = report["fit"];
+    fit["closed_loop"] = {{"lambda_N_per_m", lambda},
+                          {"mu_N_per_m", mu},
+                          {"skipped", "the fitted constants are not a stable isotropic material"}};
+    write_report_section((std::filesystem::path(out_dir) / "report.json").string(), "fit", fit);
+    return "";
   }
+  toml::table root;
+  toml::table c;
+  c.insert("models", toml::array{"elastic"});
+  // The mesh the fields live on, absolute: the solve resolves paths from its scene's directory.
+  c.insert("mesh_file", std::filesystem::absolute(coarse["mesh_file"].get<std::string>()).string());
+  c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
+  c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
+  toml::table e;
+  e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
+  e.insert("shear_modulus_N_per_m", mu);
+  e.insert("gravity_change", change);
+  c.insert("elastic", e);
+  root.insert("continuum", c);
+  const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
+  std::filesystem::create_directories(dir);
+  std::ostringstream text;
+  text << root;
+  write_text_atomically(dir + "/scene.toml", text.str() + "\n");
+  return dir + "/scene.toml";
+}
+
+void closed_loop_result(const std::string& out_dir, const nlohmann::json& report) {
+  const auto& iso = report["fit"]["models"]["isotropic"];
+  const double lambda = iso["lambda_N_per_m"].get<double>(), mu = iso["mu_N_per_m"].get<double>();
+  const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
+  nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
+  result.update(compare::compare_displacements((std::filesystem::path(out_dir) / "fields.h5").string(),
+                                               dir + "/models.h5", "elastic"));
+  result["lame_lambda_used_N_per_m"] = std::max(lambda, 0.0);
+  result["directory"] = "closed_loop";
   nlohmann::json fit = report["fit"];
   fit["closed_loop"] = result;
   write_report_section((std::filesystem::path(out_dir) / "report.json").string(), "fit", fit);
 }
 #endif
 
+// Runs f on rank 0 only, inside a stage every rank takes part in: if it throws, every rank
+// learns of it at once (rank 0 rethrows the error, the others report that rank 0 failed), so
+// that no rank waits in a collective call that rank 0 never reaches.
+template <class F>
+void on_root(MpiWorld* world, F&& f) {
+  std::exception_ptr error;
+  if (!world || world->root()) {
+    try {
+      f();
+    } catch (...) {
+      error = std::current_exception();
+      if (!world) throw;
+    }
+  }
+  if (!world) return;
+  if (world->any(error != nullptr)) {
+    if (error) std::rethrow_exception(error);
+    throw std::runtime_error("rank 0 failed (its message is in its output)");
+  }
+}
+
+// The pile the later stages work on, as the DEM measured it: one pile's flanks and height, or
+// the means over an ensemble's members.
+std::optional<mesh::Wedge> measured_pile(const std::string& out_dir, const EnsembleSpec& ensemble) {
+  const auto out = [&](const std::string& f) { return (std::filesystem::path(out_dir) / f).string(); };
+  if (ensemble.empty()) {
+    if (!std::filesystem::exists(out("report.json")) || !read_report(out("report.json")).contains("dem")) return std::nullopt;
+    const dem::DemResult d = dem::read_dem_result(out("report.json"));
+    if (!d.repose_measured()) return std::nullopt;
+    return mesh::Wedge{d.height_m, d.repose_left_deg, d.repose_right_deg, d.apex_x_m};
+  }
+  std::vector<double> height, left, right, apex;
+  for (std::int64_t seed : ensemble.seeds) {
+    const dem::DemResult d = dem::read_dem_result((std::filesystem::path(member_directory(out_dir, seed)) / "report.json").string());
+    height.push_back(d.height_m);
+    left.push_back(d.repose_left_deg);
+    right.push_back(d.repose_right_deg);
+    apex.push_back(d.apex_x_m);
+  }
+  const SampleStatistics l = sample_statistics(left), r = sample_statistics(right);
+  if (l.count == 0 || r.count == 0) return std::nullopt;
+  return mesh::Wedge{sample_statistics(height).mean, l.mean, r.mean, sample_statistics(apex).mean};
+}
+
 void run_pipeline(const RunOptions& opt) {
+  // MPI, if a stage starts it, ends with the run (also when a stage throws).
+  struct StopMpi {
+    ~StopMpi() { MpiWorld::stop(); }
+  } stop_mpi;
   SceneReader scene = SceneReader::from_file(opt.scene_path);
+  const EnsembleSpec ensemble = read_ensemble_scene(scene);
+  scene.reject_unknown({"ensemble"}, scene_tables());
+  // Under mpirun every rank runs this function: rank 0 runs the serial stages and decides what
+  // runs; the ranks share the ensemble's members and the continuum solve.
+  MpiWorld* world = launched_by_mpi() ? &MpiWorld::get() : nullptr;
+  const bool root = world == nullptr || world->root();
+  if (!ensemble.empty() && !scene.has("dem"))
+    throw InputError(opt.scene_path + ": [ensemble] needs a [dem] table: the members are poured from it");
   std::error_code made;
-  std::filesystem::create_directories(opt.out_dir, made);
+  if (root) std::filesystem::create_directories(opt.out_dir, made);
   if (made) throw InputError(opt.out_dir + ": cannot create the output directory: " + made.message());
+  if (world) world->barrier();
   const auto out = [&](const std::string& f) { return (std::filesystem::path(opt.out_dir) / f).string(); };
   const std::string state_path = out("stages.json");
   nlohmann::json state = nlohmann::json::object();
@@ -205,35 +279,92 @@ void run_pipeline(const RunOptions& opt) {
     a.insert(a.end(), b.begin(), b.end());
     return a;
   };
+  // An ensemble's members are inputs of every later stage, as OUT/dem.h5 is of one pile's.
+  std::vector<std::string> piles = {"dem.h5"}, member_files;
+  if (!ensemble.empty()) {
+    piles.clear();
+    member_files = member_dem_files(ensemble, opt.out_dir);
+  }
 
+  // Each stage: its tables, its inputs, its outputs, whether every rank takes part, its action.
   std::vector<Stage> stages;
-  stages.push_back({"dem", {"dem"}, {}, {}, {"dem.h5"}, [&] {
-                      dem::DemRunOptions o;
-                      o.scene_path = opt.scene_path;
-                      o.out_dir = opt.out_dir;
-                      o.quiet = opt.quiet;
-                      o.threads = opt.threads;
-                      dem::run_dem(o);
+  if (ensemble.empty()) {
+    stages.push_back({"dem", {"dem"}, {}, {}, {"dem.h5"}, false, [&] {
+                        dem::DemRunOptions o;
+                        o.scene_path = opt.scene_path;
+                        o.out_dir = opt.out_dir;
+                        o.quiet = opt.quiet;
+                        o.threads = opt.threads;
+                        o.restart = opt.restart && std::filesystem::exists(out("checkpoint.h5"));
+                        if (o.restart && !opt.quiet) std::fprintf(stderr, "pilelab run: dem      continues from its checkpoint\n");
+                        dem::run_dem(o);
+                      }});
+  } else {
+    // Every member's own files decide whether it is poured (members already poured are kept),
+    // so this stage always looks at them; the summary follows the members.
+    stages.push_back({"members", {"dem", "ensemble"}, {}, {}, {}, true, [&] {
+                        MemberRunOptions o;
+                        o.scene_path = opt.scene_path;
+                        o.out_dir = opt.out_dir;
+                        o.processes = opt.processes;
+                        o.threads = opt.threads;
+                        o.quiet = opt.quiet;
+                        pour_members(ensemble, o);
+                        if (root) write_report_section(out("report.json"), "ensemble", summarize_members(ensemble, opt.out_dir));
+                      }});
+  }
+  stages.push_back({"mesh", {"mesh"}, piles, join(scene_paths("mesh", "dem_file"), member_files), {"pile.msh"}, false, [&] {
+                      mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt};
+                      if (!ensemble.empty()) {
+                        if (scene.get_string("mesh.kind", "wedge") == "dem_outline" && !scene.has("mesh.dem_file"))
+                          throw InputError(opt.scene_path + ": mesh.kind = \"dem_outline\" meshes one pile: for an ensemble use "
+                                           "kind = \"wedge\" (the members' mean flanks and height) or name a member's "
+                                           "dem.h5 in mesh.dem_file");
+                        o.measured_pile = measured_pile(opt.out_dir, ensemble);
+                      }
+                      mesh::run_mesh(o);
                     }});
-  stages.push_back({"mesh", {"mesh"}, {"dem.h5"}, scene_paths("mesh", "dem_file"), {"pile.msh"},
-                    [&] { mesh::run_mesh({opt.scene_path, opt.out_dir}); }});
-  stages.push_back({"coarse", {"coarse"}, {"dem.h5", "pile.msh"},
-                    join(scene_paths("coarse", "dem_files"), scene_paths("coarse", "mesh_file")), {"fields.h5", "fields.vtu"},
-                    [&] { coarse::run_coarse({opt.scene_path, opt.out_dir}); }});
+  stages.push_back({"coarse", {"coarse"}, join(piles, {"pile.msh"}),
+                    join(join(scene_paths("coarse", "dem_files"), scene_paths("coarse", "mesh_file")), member_files),
+                    {"fields.h5", "fields.vtu"}, false, [&] {
+                      coarse::run_coarse({opt.scene_path, opt.out_dir, member_files});
+                    }});
 #ifdef PILELAB_WITH_CONTINUUM
-  stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, scene_paths("continuum", "mesh_file"), {"models.h5"}, [&] {
+  stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, scene_paths("continuum", "mesh_file"),
+                    {"models.h5"}, true, [&] {
+                      MpiWorld::get();  // MPI and PETSc, for this and any later solve
+                      on_root(world, [&] {
+                        solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")),
+                                    measured_pile(opt.out_dir, ensemble));
+                      });
                       continuum::SolveOptions o;
-                      o.scene_path = solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")));
+                      o.scene_path = out("solve_scene.toml");
                       o.out_dir = opt.out_dir;
                       o.quiet = opt.quiet;
-                      continuum::run_solve_command(o);
+                      continuum::run_solve(o);
                     }});
 #endif
   stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"},
-                    join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, [&] {
-                      compare::run_compare({opt.scene_path, opt.out_dir});
+                    join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, true, [&] {
+                      std::string loop_scene;
+                      on_root(world, [&] {
+                        compare::run_compare({opt.scene_path, opt.out_dir});
 #ifdef PILELAB_WITH_CONTINUUM
-                      if (std::filesystem::exists(out("pile.msh"))) closed_loop(opt.out_dir, read_report(out("report.json")));
+                        if (std::filesystem::exists(out("pile.msh")))
+                          loop_scene = closed_loop_scene(opt.out_dir, read_report(out("report.json")));
+#endif
+                      });
+#ifdef PILELAB_WITH_CONTINUUM
+                      // The fit's closed loop: the fitted isotropic law solved on the same mesh.
+                      const bool solve_loop = world ? world->broadcast(!loop_scene.empty()) : !loop_scene.empty();
+                      if (!solve_loop) return;
+                      MpiWorld::get();
+                      continuum::SolveOptions o;
+                      o.scene_path = out("closed_loop/scene.toml");
+                      o.out_dir = out("closed_loop");
+                      o.quiet = true;
+                      continuum::run_solve(o);
+                      on_root(world, [&] { closed_loop_result(opt.out_dir, read_report(out("report.json"))); });
 #endif
                     }});
 
@@ -247,27 +378,61 @@ void run_pipeline(const RunOptions& opt) {
       for (const auto& f : stage.external) fp += f + "=" + file_fingerprint(f) + ";";
       return fp;
     };
-    const std::string fingerprint = fingerprint_now();
-    bool outputs_present = true;
-    for (const auto& f : stage.outputs) outputs_present = outputs_present && std::filesystem::exists(out(f));
-    const bool unchanged = state.contains(stage.name) && state[stage.name] == fingerprint && outputs_present;
-    if (unchanged && !opt.force && !upstream_ran) {
-      std::fprintf(stderr, "pilelab run: %-8s skipped (scene table and inputs unchanged; --force reruns it)\n",
-                   stage.name.c_str());
+    // Rank 0 decides, from the files, and tells the others.
+    bool skip = false;
+    if (root) {
+      const std::string fingerprint = fingerprint_now();
+      bool outputs_present = true;
+      for (const auto& f : stage.outputs) outputs_present = outputs_present && std::filesystem::exists(out(f));
+      const bool unchanged = state.contains(stage.name) && state[stage.name] == fingerprint && outputs_present;
+      skip = unchanged && !opt.force && !upstream_ran && !stage.outputs.empty();
+    }
+    if (world) skip = world->broadcast(skip);
+    if (skip) {
+      if (root)
+        std::fprintf(stderr, "pilelab run: %-8s skipped (scene table and inputs unchanged; --force reruns it)\n",
+                     stage.name.c_str());
       continue;
     }
-    std::fprintf(stderr, "pilelab run: %-8s running\n", stage.name.c_str());
-    stage.run();
+    if (root) std::fprintf(stderr, "pilelab run: %-8s running\n", stage.name.c_str());
+    const auto start = std::chrono::steady_clock::now();
+    if (stage.every_rank || root) {
+      bool failed = false;
+      std::string message;
+      try {
+        stage.run();
+      } catch (...) {
+        if (!world) throw;
+        failed = true;
+        try {
+          throw;
+        } catch (const std::exception& e) {
+          message = e.what();
+        }
+      }
+      // A stage that failed on one rank ends the run on all, with the message where it arose.
+      if (world && world->any(failed)) {
+        if (failed) throw std::runtime_error(message);
+        throw std::runtime_error("stage " + stage.name + " failed on another rank");
+      }
+    } else if (world) {
+      world->any(false);
+    }
     upstream_ran = true;
-    // The fingerprint after the run: a stage may add to a shared input (compare adds rows to
-    // profiles.csv), and must not count its own additions as a change next time.
-    state[stage.name] = fingerprint_now();
-    write_text_atomically(state_path, state.dump(1));
+    if (root) {
+      if (!opt.quiet)
+        std::fprintf(stderr, "pilelab run: %-8s done in %.1f s\n", stage.name.c_str(),
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      // The fingerprint after the run: a stage may add to a shared input (compare adds rows to
+      // profiles.csv), and must not count its own additions as a change next time.
+      state[stage.name] = fingerprint_now();
+      write_text_atomically(state_path, state.dump(1));
+    }
   }
 
   // Figures from whatever ran (Debian's python3 with matplotlib and h5py).
   const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
-  if (std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
+  if (root && std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
     const std::string cmd = "/usr/bin/python3 '" + script + "' '" + opt.out_dir + "'" + (opt.quiet ? " > /dev/null" : "");
     if (std::system(cmd.c_str()) != 0) throw std::runtime_error("figures: " + cmd + " failed");
   }
@@ -285,7 +450,14 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("-o,--out", opt->out_dir, "Output directory (created if missing)")->required();
   cmd->add_flag("--force", opt->force, "Run every stage, even those whose inputs have not changed");
   cmd->add_flag("-q,--quiet", opt->quiet, "No progress lines");
-  cmd->add_option("-j,--threads", opt->threads, "OpenMP threads for the DEM (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("-j,--threads", opt->threads,
+                  "OpenMP threads for the DEM, per ensemble member (default: the cores, shared among the members poured at once)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("-P,--processes", opt->processes,
+                  "Pour this many ensemble members at once, as child processes (without MPI; with mpirun the ranks share them)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--restart", opt->restart,
+                "The DEM continues from OUT/checkpoint.h5 where one is left (ensemble members always continue from theirs)");
   cmd->final_callback([opt] { run_pipeline(*opt); });
 }
 

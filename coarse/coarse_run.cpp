@@ -182,9 +182,10 @@ void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool 
 nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const auto start = Clock::now();
   SceneReader reader = SceneReader::from_file(opt.scene_path);
-  const CoarseSettings settings =
+  CoarseSettings settings =
       read_coarse_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
   reader.reject_unknown({"coarse"}, scene_tables());
+  if (!opt.dem_files.empty() && !reader.has("coarse.dem_files")) settings.dem_files = opt.dem_files;
   std::error_code ec;
   std::filesystem::create_directories(opt.out_dir, ec);
   if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());

@@ -78,7 +78,9 @@ std::int64_t SceneReader::get_int(std::string_view key, std::int64_t fallback, s
   const toml::node* n = find(key);
   if (!n) return fallback;
   auto i = n->value_exact<std::int64_t>();
-  if (!i) fail(key, "expected an integer");
+  if (!i)
+    fail(key, "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                  (n->is_floating_point() ? " written without a decimal point or exponent" : ""));
   if (*i < lo || *i > hi)
     fail(key, std::to_string(*i) + " is out of range: expected " + std::to_string(lo) +
                   " <= value <= " + std::to_string(hi));
@@ -132,6 +134,24 @@ std::vector<double> SceneReader::get_double_list(std::string_view key,
       fail(key, s.str());
     }
     out.push_back(v);
+  }
+  return out;
+}
+
+std::vector<std::int64_t> SceneReader::get_int_list(std::string_view key, const std::vector<std::int64_t>& fallback,
+                                                    std::int64_t lo, std::int64_t hi) {
+  asked_.insert(std::string(key));
+  const toml::node* n = find(key);
+  if (!n) return fallback;
+  const toml::array* a = n->as_array();
+  const std::string expected = "an array of integers from " + std::to_string(lo) + " to " + std::to_string(hi);
+  if (!a) fail(key, "expected " + expected);
+  std::vector<std::int64_t> out;
+  for (const auto& e : *a) {
+    const auto i = e.value_exact<std::int64_t>();
+    if (!i) fail(key, "expected " + expected);
+    if (*i < lo || *i > hi) fail(key, "element " + std::to_string(*i) + " is out of range: expected " + expected);
+    out.push_back(*i);
   }
   return out;
 }

@@ -50,6 +50,8 @@ class SceneReader {
   std::vector<double> get_double_list(std::string_view key, const std::vector<double>& fallback,
                                       Range range);
   std::vector<std::string> get_string_list(std::string_view key, const std::vector<std::string>& fallback);
+  std::vector<std::int64_t> get_int_list(std::string_view key, const std::vector<std::int64_t>& fallback,
+                                         std::int64_t lo, std::int64_t hi);
 
   /// Throws InputError for any key under the given top-level tables that no get_* call asked
   /// for, and for any top-level table not in known_tables.

@@ -7,8 +7,8 @@
 namespace pilelab {
 
 inline const std::vector<std::string>& scene_tables() {
-  static const std::vector<std::string> tables = {"scene",     "dem",     "mesh", "coarse",
-                                                  "continuum", "compare", "fit",  "pipeline"};
+  static const std::vector<std::string> tables = {"scene",   "dem", "mesh",     "coarse",  "continuum",
+                                                  "compare", "fit", "pipeline", "ensemble"};
   return tables;
 }
 

@@ -64,7 +64,7 @@ std::string find_or_make_mesh(const ContinuumSettings& s, const SolveOptions& o,
     throw InputError(o.scene_path + ": no mesh: expected continuum.mesh_file, an existing " + pile +
                      " (from `pilelab mesh`), or a [mesh] table to generate one from");
   pcout << "continuum: no " << pile << ", generating it from the scene's [mesh] table\n";
-  on_rank0(comm, [&] { mesh::run_mesh({o.scene_path, o.out_dir}); });
+  on_rank0(comm, [&] { mesh::run_mesh({o.scene_path, o.out_dir, std::nullopt}); });
   return pile;
 }
 
@@ -188,6 +188,17 @@ nlohmann::json run_solve(const SolveOptions& o) {
   });
   return report;
 }
+
+struct ParallelContext::Impl {
+  int argc = 1;
+  char name[8] = "pilelab";
+  char* args[2] = {name, nullptr};
+  char** argv = args;
+  Utilities::MPI::MPI_InitFinalize mpi{argc, argv, 1};
+};
+
+ParallelContext::ParallelContext() : impl_(std::make_unique<Impl>()) {}
+ParallelContext::~ParallelContext() = default;
 
 void run_solve_command(const SolveOptions& options) {
   // MPI (and PETSc) for this subcommand only; one thread per rank, the ranks do the work.

@@ -1,6 +1,7 @@
 #pragma once
 // `pilelab solve`: the continuum models of the scene's [continuum] table on the pile
 // triangulation. This header is deal.II-free so that the command-line front end compiles fast.
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -21,5 +22,19 @@ nlohmann::json run_solve(const SolveOptions& options);
 /// run_solve inside its own MPI (and PETSc) context, for the command-line action: MPI is set
 /// up here and torn down on return, so other subcommands never start it.
 void run_solve_command(const SolveOptions& options);
+
+/// MPI and PETSc for as long as the object lives, for a process that runs run_solve among other
+/// work (`pilelab run`). At most one per process, and not together with run_solve_command.
+class ParallelContext {
+ public:
+  ParallelContext();
+  ~ParallelContext();
+  ParallelContext(const ParallelContext&) = delete;
+  ParallelContext& operator=(const ParallelContext&) = delete;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace pilelab::continuum

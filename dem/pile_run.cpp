@@ -159,6 +159,19 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   return warnings;
 }
 
+// The scene file as dem.h5 records it: relative to the output directory when it lies inside it
+// (an ensemble member's scene.toml), so that the same member poured into another OUT gives the
+// same bytes; otherwise as the user gave it.
+std::string recorded_scene_path(const std::string& scene_path, const std::string& out_dir) {
+  std::error_code ec;
+  const auto scene = std::filesystem::weakly_canonical(scene_path, ec);
+  const auto out = std::filesystem::weakly_canonical(out_dir, ec);
+  if (ec) return scene_path;
+  const auto inside = scene.lexically_relative(out);
+  if (!inside.empty() && *inside.begin() != "..") return inside.string();
+  return scene_path;
+}
+
 nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threads) {
   const World& w = p.world();
   const DemScene& scene = p.scene();
@@ -167,6 +180,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   const PileShape shape = measure_pile(w, settled, 2.0 * scene.grains.mean_diameter);
   const StepProfile& prof = w.profile();
   nlohmann::json r;
+  r["seed"] = scene.seed;
   r["particles"] = w.active_grains().size();
   r["poured"] = p.state().poured;
   r["lost"] = p.state().lost;
@@ -297,7 +311,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   run_info["seed"] = scene.seed;
   run_info["time_step_s"] = world.settings().time_step;
   run_info["integrator"] = scheme_name(scene.scheme);
-  run_info["scene_file"] = opt.scene_path;
+  run_info["scene_file"] = recorded_scene_path(opt.scene_path, opt.out_dir);
   // Checked before anything is written: a failed run leaves no dem.h5 for later stages to read.
   if (world.active_grains().empty())
     throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +

@@ -16,6 +16,12 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
   SceneReader reader = SceneReader::from_file(opt.scene_path);
   MeshSpec spec = read_mesh_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string());
   reader.reject_unknown({"mesh"}, scene_tables());
+  if (opt.measured_pile && spec.kind == MeshSpec::Kind::wedge) {
+    if (!reader.has("mesh.height_m")) spec.wedge.height_m = opt.measured_pile->height_m;
+    if (!reader.has("mesh.left_angle_deg")) spec.wedge.left_angle_deg = opt.measured_pile->left_angle_deg;
+    if (!reader.has("mesh.right_angle_deg")) spec.wedge.right_angle_deg = opt.measured_pile->right_angle_deg;
+    if (!reader.has("mesh.apex_x_m")) spec.wedge.apex_x_m = opt.measured_pile->apex_x_m;
+  }
   if (spec.kind == MeshSpec::Kind::dem_outline && spec.dem_file.empty())
     spec.dem_file = (std::filesystem::path(opt.out_dir) / "dem.h5").string();
 
@@ -40,6 +46,12 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
       {"height_m", height},
       {"wall_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
   if (spec.kind == MeshSpec::Kind::dem_outline) section["dem_file"] = spec.dem_file;
+  if (spec.kind == MeshSpec::Kind::wedge)
+    section["wedge"] = {{"height_m", spec.wedge.height_m},
+                        {"left_angle_deg", spec.wedge.left_angle_deg},
+                        {"right_angle_deg", spec.wedge.right_angle_deg},
+                        {"apex_x_m", spec.wedge.apex_x_m},
+                        {"from_dem", opt.measured_pile.has_value()}};
   write_report_section((std::filesystem::path(opt.out_dir) / "report.json").string(), "mesh", section);
   return section;
 }

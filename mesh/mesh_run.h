@@ -1,15 +1,21 @@
 #pragma once
 // `pilelab mesh`: the pile triangulation OUT/pile.msh from the scene's [mesh] table, and the
 // "mesh" section of OUT/report.json.
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "mesh/pile_mesh.h"
 
 namespace pilelab::mesh {
 
 struct MeshRunOptions {
   std::string scene_path;
   std::string out_dir;
+  /// The pile the DEM poured (an ensemble's mean): a wedge mesh takes from it the height, flank
+  /// angles and apex the scene's [mesh] table leaves out.
+  std::optional<Wedge> measured_pile;
 };
 
 /// Returns the report section it wrote. A dem_outline mesh without mesh.dem_file reads

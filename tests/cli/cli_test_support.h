@@ -40,10 +40,12 @@ class CliTest : public ::testing::Test {
     std::ofstream(path(name)) << text;
     return path(name);
   }
-  // Runs pilelab with args; environment is "NAME=value ..." put before the command.
-  CommandResult run(const std::string& args, const std::string& environment = "") const {
+  // Runs pilelab with args; environment is "NAME=value ..." put before the command. With
+  // prefix_binary false, args is the whole command (e.g. mpirun ... pilelab ...).
+  CommandResult run(const std::string& args, const std::string& environment = "", bool prefix_binary = true) const {
     const std::string log = path("command.log");
-    const std::string cmd = environment + " " + std::string(PILELAB_BINARY) + " " + args + " > " + log + " 2>&1";
+    const std::string cmd = environment + " " + (prefix_binary ? std::string(PILELAB_BINARY) + " " : std::string()) + args +
+                            " > " + log + " 2>&1";
     const int status = std::system(cmd.c_str());
     std::ifstream in(log);
     std::stringstream s;

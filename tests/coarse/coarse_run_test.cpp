@@ -38,8 +38,8 @@ class CoarseRun : public ::testing::Test {
       dem.quiet = true;
       pilelab::dem::run_dem(dem);
     }
-    pilelab::mesh::run_mesh({scene, out_});
-    report_ = pilelab::coarse::run_coarse({scene, out_});
+    pilelab::mesh::run_mesh({scene, out_, std::nullopt});
+    report_ = pilelab::coarse::run_coarse({scene, out_, {}});
   }
   static void TearDownTestSuite() { std::filesystem::remove_all(out_); }
 
@@ -142,7 +142,7 @@ TEST_F(CoarseRun, MeshThatDoesNotCoverThePile) {
   pilelab::mesh::write_mesh(small, out_ + "/small.msh");
   std::ofstream(out_ + "/small.toml") << "[coarse]\nmesh_file = \"small.msh\"\ndem_files = [\"dem.h5\"]\n"
                                          "rve_radius_m = 0.01\nprofile_heights = [0.0]\n";
-  const auto report = pilelab::coarse::run_coarse({out_ + "/small.toml", out_ + "/small_out"});
+  const auto report = pilelab::coarse::run_coarse({out_ + "/small.toml", out_ + "/small_out", {}});
   EXPECT_GT(report["grains_outside_mesh"].get<int>(), 0);
   pilelab::H5File f = pilelab::H5File::open_read(out_ + "/small_out/fields.h5");
   const pilelab::dem::Snapshot settled = pilelab::dem::read_dem_file(out_ + "/dem.h5").snapshot("settled");
@@ -179,7 +179,7 @@ TEST_F(CoarseRun, EnsembleMeanAndStandardError) {
   auto scene = [&](const std::string& name, const std::string& files) {
     std::ofstream(out_ + "/" + name + ".toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [" << files
                                               << "]\nrve_radius_m = 0.01\nprofile_heights = [0.0]\n";
-    pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name});
+    pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name, {}});
     return pilelab::H5File::open_read(out_ + "/" + name + "/fields.h5");
   };
   const auto one = scene("one", "\"dem.h5\""), two = scene("two", "\"" + b + "\"");
@@ -216,7 +216,7 @@ TEST_F(CoarseRun, KernelNarrowerThanAGrainIsRefused) {
     std::ofstream(out_ + "/" + name + ".toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [\"dem.h5\"]\n"
                                                   "method = \"lucy\"\nrve_radius_m = 0.01\nprofile_heights = [0.0]\n"
                                                   "kernel_width_m = " << std::setprecision(17) << w << "\n";
-    return pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name});
+    return pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name, {}});
   };
   try {
     run("narrow", 0.5 * d);
@@ -238,7 +238,7 @@ TEST(CoarseErrors, MissingMeshIsNamed) {
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "s.toml") << "[coarse]\nmesh_file = \"nowhere.msh\"\n";
   try {
-    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string()});
+    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string(), {}});
     FAIL();
   } catch (const pilelab::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nowhere.msh"), std::string::npos) << e.what();
@@ -263,7 +263,7 @@ TEST(CoarseErrors, SnapshotWithoutGrainsIsNamed) {
   pilelab::mesh::write_mesh(spec, (dir / "pile.msh").string());
   std::ofstream(dir / "s.toml") << "[coarse]\nmesh_file = \"pile.msh\"\ndem_files = [\"empty.h5\"]\n";
   try {
-    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string()});
+    pilelab::coarse::run_coarse({(dir / "s.toml").string(), (dir / "out").string(), {}});
     FAIL() << "no error for a snapshot without grains";
   } catch (const pilelab::InputError& e) {
     const std::string m = e.what();

@@ -11,6 +11,7 @@ void add_coarse_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_fit_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_check_command(CLI::App& app);
 #ifdef PILELAB_WITH_CONTINUUM
 void add_solve_command(CLI::App& app);
 #endif

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   pilelab::app::add_compare_command(app);
   pilelab::app::add_fit_command(app);
   pilelab::app::add_run_command(app);
+  pilelab::app::add_check_command(app);
 #ifdef PILELAB_WITH_CONTINUUM
   pilelab::app::add_solve_command(app);
 #endif

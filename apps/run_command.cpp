@@ -20,6 +20,7 @@
 #include "apps/commands.h"
 #include "apps/ensemble_members.h"
 #include "apps/parallel.h"
+#include "apps/scene_check.h"
 #include "coarse/coarse_run.h"
 #include "common/atomic_file.h"
 #include "common/ensemble.h"
@@ -235,6 +236,7 @@ void run_pipeline(const RunOptions& opt) {
   struct StopMpi {
     ~StopMpi() { MpiWorld::stop(); }
   } stop_mpi;
+  check_scene(opt.scene_path);  // every table, before hours of pouring
   SceneReader scene = SceneReader::from_file(opt.scene_path);
   const EnsembleSpec ensemble = read_ensemble_scene(scene);
   scene.reject_unknown({"ensemble"}, scene_tables());
@@ -314,14 +316,10 @@ void run_pipeline(const RunOptions& opt) {
                       }});
   }
   stages.push_back({"mesh", {"mesh"}, piles, join(scene_paths("mesh", "dem_file"), member_files), {"pile.msh"}, false, [&] {
-                      mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt};
-                      if (!ensemble.empty()) {
-                        if (scene.get_string("mesh.kind", "wedge") == "dem_outline" && !scene.has("mesh.dem_file"))
-                          throw InputError(opt.scene_path + ": mesh.kind = \"dem_outline\" meshes one pile: for an ensemble use "
-                                           "kind = \"wedge\" (the members' mean flanks and height) or name a member's "
-                                           "dem.h5 in mesh.dem_file");
-                        o.measured_pile = measured_pile(opt.out_dir, ensemble);
-                      }
+                      // An ensemble's mesh: the wedge of the members' mean flanks and height, or
+                      // (kind = "dem_outline") their mean outline.
+                      mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, member_files};
+                      if (!ensemble.empty()) o.measured_pile = measured_pile(opt.out_dir, ensemble);
                       mesh::run_mesh(o);
                     }});
   stages.push_back({"coarse", {"coarse"}, join(piles, {"pile.msh"}),
@@ -348,7 +346,10 @@ void run_pipeline(const RunOptions& opt) {
                     join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, true, [&] {
                       std::string loop_scene;
                       on_root(world, [&] {
-                        compare::run_compare({opt.scene_path, opt.out_dir});
+                        const auto pile = measured_pile(opt.out_dir, ensemble);
+                        compare::CompareRunOptions o{opt.scene_path, opt.out_dir, std::nullopt};
+                        if (pile) o.measured_repose_angle_deg = 0.5 * (pile->left_angle_deg + pile->right_angle_deg);
+                        compare::run_compare(o);
 #ifdef PILELAB_WITH_CONTINUUM
                         if (std::filesystem::exists(out("pile.msh")))
                           loop_scene = closed_loop_scene(opt.out_dir, read_report(out("report.json")));

@@ -18,6 +18,7 @@
 #include "common/triangle_vtu.h"
 #include "compare/field_norms.h"
 #include "compare/stress_strain_fit.h"
+#include "dem/dem_result.h"
 
 namespace pilelab::compare {
 
@@ -299,12 +300,38 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
   return out;
 }
 
+double fit_sample_spacing(const std::string& fields_path, double requested_m) {
+  if (requested_m > 0) return requested_m;
+  H5File file = H5File::open_read(fields_path);
+  const double rve = file.attribute_double("/", "rve_radius_m");
+  if (rve > 0) return rve;
+  const double height = file.attribute_double("/", "height_m");
+  if (!(height > 0))
+    throw InputError(fields_path + ": attribute /height_m: expected a positive pile height, found " + std::to_string(height));
+  return height / 20;
+}
+
+CompareSettings read_compare_scene(SceneReader& reader, const std::string& scene_dir, const std::string& out_dir) {
+  auto path_key = [&](const char* key, const std::string& fallback) {
+    const std::string p = reader.get_string(key, "");
+    if (p.empty()) return fallback;
+    return std::filesystem::path(p).is_absolute() ? p : (std::filesystem::path(scene_dir) / p).string();
+  };
+  CompareSettings s;
+  s.fields_path = path_key("compare.fields_file", in_dir(out_dir, "fields.h5"));
+  s.models_path = path_key("compare.models_file", in_dir(out_dir, "models.h5"));
+  s.fit_resamples = static_cast<int>(reader.get_int("compare.fit_resamples", s.fit_resamples, 0, 100000));
+  s.fit_folds = static_cast<int>(reader.get_int("compare.fit_folds", s.fit_folds, 2, 100));
+  s.fit_seed = static_cast<unsigned>(reader.get_int("compare.fit_seed", s.fit_seed, 0, 1L << 31));
+  s.fit_sample_spacing_m = reader.get_double("compare.fit_sample_spacing_m", 0.0, Range::at_least(0.0));
+  s.repose_angle_deg = reader.get_double("compare.repose_angle_deg", 0.0, Range::closed(0.0, 45.0));
+  return s;
+}
+
 nlohmann::json run_fit(const FitOptions& opt) {
   Triangulation mesh;
   const PointFields dem = read_dem_fields(opt.fields_path, &mesh);
-  double spacing = opt.sample_spacing_m;
-  if (spacing <= 0) spacing = H5File::open_read(opt.fields_path).attribute_double("/", "rve_radius_m");
-  if (!(spacing > 0)) spacing = 0.01;
+  const double spacing = fit_sample_spacing(opt.fields_path, opt.sample_spacing_m);
   std::filesystem::create_directories(opt.out_dir);
   std::vector<FitSample> samples;
   std::vector<FitResult> fits;
@@ -318,20 +345,13 @@ nlohmann::json run_fit(const FitOptions& opt) {
 nlohmann::json run_compare(const CompareRunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   SceneReader reader = SceneReader::from_file(opt.scene_path);
-  const std::string scene_dir = std::filesystem::path(opt.scene_path).parent_path().string();
-  auto path_key = [&](const char* key, const std::string& fallback) {
-    const std::string p = reader.get_string(key, "");
-    if (p.empty()) return fallback;
-    return std::filesystem::path(p).is_absolute() ? p : (std::filesystem::path(scene_dir) / p).string();
-  };
-  const std::string fields_path = path_key("compare.fields_file", in_dir(opt.out_dir, "fields.h5"));
-  const std::string models_path = path_key("compare.models_file", in_dir(opt.out_dir, "models.h5"));
-  const int resamples = static_cast<int>(reader.get_int("compare.fit_resamples", 200, 0, 100000));
-  const int folds = static_cast<int>(reader.get_int("compare.fit_folds", 5, 2, 100));
-  const auto seed = static_cast<unsigned>(reader.get_int("compare.fit_seed", 1, 0, 1L << 31));
-  double spacing = reader.get_double("compare.fit_sample_spacing_m", 0.0, Range::at_least(0.0));
-  double repose_deg = reader.get_double("compare.repose_angle_deg", 0.0, Range::closed(0.0, 45.0));
+  const CompareSettings settings =
+      read_compare_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
   reader.reject_unknown({"compare"}, scene_tables());
+  const std::string& fields_path = settings.fields_path;
+  const std::string& models_path = settings.models_path;
+  const int resamples = settings.fit_resamples, folds = settings.fit_folds;
+  const unsigned seed = settings.fit_seed;
 
   Triangulation mesh;
   bool on_nodes = true;
@@ -340,17 +360,13 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
     throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
   H5File fields_file = H5File::open_read(fields_path);
   const double height = fields_file.attribute_double("/", "height_m");
-  if (spacing <= 0) spacing = fields_file.attribute_double("/", "rve_radius_m");
-  if (!(spacing > 0)) spacing = height / 20;
-  const nlohmann::json report = read_report(in_dir(opt.out_dir, "report.json"));
-  // The DEM's measured angles, when its report has both (a pile too flat to fit a flank
-  // writes null; an older or hand-made report may lack the keys): otherwise no FPA angle.
-  const nlohmann::json dem_report = report.is_object() ? report.value("dem", nlohmann::json::object()) : nlohmann::json();
-  if (repose_deg <= 0 && dem_report.is_object()) {
-    const nlohmann::json left = dem_report.value("repose_angle_left_deg", nlohmann::json());
-    const nlohmann::json right = dem_report.value("repose_angle_right_deg", nlohmann::json());
-    if (left.is_number() && right.is_number()) repose_deg = 0.5 * (left.get<double>() + right.get<double>());
-  }
+  const double spacing = fit_sample_spacing(fields_path, settings.fit_sample_spacing_m);
+  // The FPA's repose angle: the scene's, else the one the DEM measured (handed over by
+  // `pilelab run`, or read from the DEM's report section); without any, no FPA angle.
+  double repose_deg = settings.repose_angle_deg;
+  if (repose_deg <= 0 && opt.measured_repose_angle_deg) repose_deg = *opt.measured_repose_angle_deg;
+  if (repose_deg <= 0 && !opt.measured_repose_angle_deg)
+    repose_deg = dem::mean_repose_angle_deg(read_report(in_dir(opt.out_dir, "report.json"))).value_or(0.0);
   // The axis: through the apex, the highest node.
   double apex_x = 0, top = -INFINITY;
   for (const Vec2& p : mesh.nodes)

@@ -3,16 +3,39 @@
 // common triangulation, and stress-strain relations fitted to the DEM. Writes the "compare"
 // and "fit" sections of OUT/report.json, OUT/compare.vtu, and adds the DEM's axis
 // misalignment profiles to OUT/profiles.csv (docs/FORMAT.md).
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
+
+#include "common/scene_reader.h"
 
 namespace pilelab::compare {
 
 struct CompareRunOptions {
   std::string scene_path;
   std::string out_dir;
+  /// The repose angle the DEM measured (one pile's flank mean, or an ensemble's mean): the FPA
+  /// angle psi = 45 - phi/2 uses it unless compare.repose_angle_deg is given. Without it, the
+  /// "dem" section of OUT/report.json is read (a standalone `pilelab compare`).
+  std::optional<double> measured_repose_angle_deg;
 };
+
+/// The [compare] table, read and checked in one place.
+struct CompareSettings {
+  std::string fields_path;        ///< default OUT/fields.h5
+  std::string models_path;        ///< default OUT/models.h5 (optional file)
+  int fit_resamples = 200;
+  int fit_folds = 5;
+  unsigned fit_seed = 1;
+  double fit_sample_spacing_m = 0;  ///< 0: fit_sample_spacing() of the fields file
+  double repose_angle_deg = 0;      ///< 0: the DEM's
+};
+CompareSettings read_compare_scene(SceneReader& reader, const std::string& scene_dir, const std::string& out_dir);
+
+/// The spacing of the fit's sample points: the one asked for, else the RVE radius the fields
+/// were averaged with, else a twentieth of the pile height (fields without an RVE).
+double fit_sample_spacing(const std::string& fields_path, double requested_m);
 
 struct FitOptions {
   std::string fields_path;       ///< a fields.h5 (from coarse/, or the user's own)

@@ -119,7 +119,8 @@ ContinuumSettings read_continuum_scene(SceneReader& r, const std::string& scene_
       if (name && *name == "elastic") s.elastic = true;
       else if (name && *name == "fpa") s.fpa = true;
       else
-        throw InputError(src + ": continuum.models: expected a list of \"elastic\" and/or \"fpa\"");
+        throw InputError(src + ": continuum.models: expected a list of \"elastic\" and/or \"fpa\", found " +
+                         (name ? "\"" + *name + "\"" : std::string("a value that is not a string")));
     }
   }
 

@@ -34,6 +34,19 @@ DemResult dem_result_from_report(const nlohmann::json& report, const std::string
   return r;
 }
 
+std::optional<double> mean_repose_angle_deg(const nlohmann::json& report) {
+  if (!report.is_object() || !report.contains("dem") || !report["dem"].is_object()) return std::nullopt;
+  const nlohmann::json& d = report["dem"];
+  const auto angle = [&](const char* key) {
+    return d.contains(key) && d[key].is_number() ? d[key].get<double>() : NAN;
+  };
+  DemResult r;
+  r.repose_left_deg = angle("repose_angle_left_deg");
+  r.repose_right_deg = angle("repose_angle_right_deg");
+  if (!r.repose_measured()) return std::nullopt;
+  return 0.5 * (r.repose_left_deg + r.repose_right_deg);
+}
+
 DemResult read_dem_result(const std::string& report_path) {
   return dem_result_from_report(read_report(report_path), report_path);
 }

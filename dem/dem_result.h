@@ -3,6 +3,7 @@
 // cost. Written by `pilelab dem` as the "dem" section of OUT/report.json; this is the one reader
 // of that section, so every stage sees the same values with the same checks.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -26,5 +27,10 @@ struct DemResult {
 DemResult dem_result_from_report(const nlohmann::json& report, const std::string& source);
 /// The same, from a report.json file.
 DemResult read_dem_result(const std::string& report_path);
+
+/// The pile's repose angle, the mean of its two flanks, from a report's "dem" section, when
+/// both flanks are numbers in (0, 90). Reads nothing else, so a partial or hand-made section
+/// gives an answer or nothing, never an error.
+std::optional<double> mean_repose_angle_deg(const nlohmann::json& report);
 
 }  // namespace pilelab::dem

@@ -22,8 +22,12 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
     if (!reader.has("mesh.right_angle_deg")) spec.wedge.right_angle_deg = opt.measured_pile->right_angle_deg;
     if (!reader.has("mesh.apex_x_m")) spec.wedge.apex_x_m = opt.measured_pile->apex_x_m;
   }
-  if (spec.kind == MeshSpec::Kind::dem_outline && spec.dem_file.empty())
-    spec.dem_file = (std::filesystem::path(opt.out_dir) / "dem.h5").string();
+  if (spec.kind == MeshSpec::Kind::dem_outline && spec.dem_file.empty()) {
+    if (opt.member_dem_files.empty())
+      spec.dem_file = (std::filesystem::path(opt.out_dir) / "dem.h5").string();
+    else
+      spec.dem_files = opt.member_dem_files;
+  }
 
   std::error_code ec;
   std::filesystem::create_directories(opt.out_dir, ec);
@@ -45,7 +49,12 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
       {"area_m2", area},
       {"height_m", height},
       {"wall_time_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()}};
-  if (spec.kind == MeshSpec::Kind::dem_outline) section["dem_file"] = spec.dem_file;
+  if (spec.kind == MeshSpec::Kind::dem_outline) {
+    if (spec.dem_files.empty())
+      section["dem_file"] = spec.dem_file;
+    else
+      section["mean_outline_of"] = spec.dem_files.size();  // members, listed in the coarse section
+  }
   if (spec.kind == MeshSpec::Kind::wedge)
     section["wedge"] = {{"height_m", spec.wedge.height_m},
                         {"left_angle_deg", spec.wedge.left_angle_deg},

@@ -16,6 +16,8 @@ struct MeshRunOptions {
   /// The pile the DEM poured (an ensemble's mean): a wedge mesh takes from it the height, flank
   /// angles and apex the scene's [mesh] table leaves out.
   std::optional<Wedge> measured_pile;
+  /// An ensemble's members: a dem_outline mesh without mesh.dem_file meshes their mean outline.
+  std::vector<std::string> member_dem_files;
 };
 
 /// Returns the report section it wrote. A dem_outline mesh without mesh.dem_file reads

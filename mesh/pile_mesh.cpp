@@ -234,10 +234,24 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
       area = spec.block.width_m * spec.block.height_m;
       break;
     case MeshSpec::Kind::dem_outline: {
-      if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
-      const dem::DemFile file = dem::read_dem_file(spec.dem_file);
-      const dem::Snapshot snap = file.snapshot(spec.dem_snapshot);
-      outline = outline_of_pile(file, snap, spec.element_size_m, spec.element_size_m / 4);
+      const double tolerance = spec.element_size_m / 4;
+      const auto outline_of = [&](const std::string& path) {
+        const dem::DemFile file = dem::read_dem_file(path);
+        return outline_of_pile(file, file.snapshot(spec.dem_snapshot), spec.element_size_m, tolerance);
+      };
+      if (!spec.dem_files.empty()) {
+        // An ensemble: the members' mean surface, simplified like one pile's.
+        std::vector<Outline> members;
+        for (const std::string& path : spec.dem_files) members.push_back(outline_of(path));
+        outline = mean_outline(members, spec.element_size_m);
+        outline.surface = simplify_polyline(outline.surface, tolerance);
+        outline.apex_index = 0;
+        for (int i = 1; i + 1 < static_cast<int>(outline.surface.size()); ++i)
+          if (outline.surface[i].y() > outline.surface[outline.apex_index].y()) outline.apex_index = i;
+      } else {
+        if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
+        outline = outline_of(spec.dem_file);
+      }
       area = outline_area(outline);
       break;
     }

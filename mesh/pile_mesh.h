@@ -48,6 +48,7 @@ struct MeshSpec {
   Wedge wedge;
   Block block;
   std::string dem_file;                 ///< kind == dem_outline: the dem.h5 whose pile is meshed
+  std::vector<std::string> dem_files;   ///< kind == dem_outline, an ensemble: the mean outline of these
   std::string dem_snapshot = "settled";
   double element_size_m = 0.02;         ///< target edge length
   double axis_element_size_m = 0.0;     ///< near the vertical axis through the apex (0: same)

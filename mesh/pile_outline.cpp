@@ -44,6 +44,40 @@ std::vector<dem::Vec2> simplify_polyline(const std::vector<dem::Vec2>& points, d
   return out;
 }
 
+namespace {
+// h(x) of a surface polyline (x non-decreasing), zero outside its feet.
+double height_at(const std::vector<dem::Vec2>& surface, double x) {
+  if (surface.empty() || x <= surface.front().x() || x >= surface.back().x()) return 0.0;
+  const auto right = std::upper_bound(surface.begin(), surface.end(), x,
+                                      [](double value, const dem::Vec2& p) { return value < p.x(); });
+  const dem::Vec2& b = *right;
+  const dem::Vec2& a = *(right - 1);
+  const double dx = b.x() - a.x();
+  return dx > 0 ? a.y() + (x - a.x()) / dx * (b.y() - a.y()) : std::max(a.y(), b.y());
+}
+}  // namespace
+
+Outline mean_outline(const std::vector<Outline>& outlines, double spacing) {
+  if (outlines.empty()) throw InputError("mean outline: no outlines to average");
+  double left = INFINITY, right = -INFINITY;
+  for (const Outline& o : outlines) {
+    left = std::min(left, o.surface.front().x());
+    right = std::max(right, o.surface.back().x());
+  }
+  const int intervals = std::max(2, static_cast<int>(std::ceil((right - left) / spacing)));
+  Outline mean;
+  mean.surface.reserve(intervals + 1);
+  for (int i = 0; i <= intervals; ++i) {
+    const double x = i == intervals ? right : left + (right - left) * i / intervals;
+    double sum = 0;
+    for (const Outline& o : outlines) sum += height_at(o.surface, x);
+    mean.surface.emplace_back(x, sum / outlines.size());
+  }
+  for (int i = 1; i < intervals; ++i)
+    if (mean.surface[i].y() > mean.surface[mean.apex_index].y()) mean.apex_index = i;
+  return mean;
+}
+
 Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot, double strip_width,
                         double tolerance) {
   const std::size_t n = snapshot.grain_count();

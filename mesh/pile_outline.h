@@ -15,6 +15,12 @@ namespace pilelab::mesh {
 Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot, double strip_width,
                         double tolerance);
 
+/// The mean free surface of several piles (an ensemble's): each outline read as a height h_k(x),
+/// linear between its points and zero beyond its feet, averaged at points spacing apart from the
+/// leftmost foot to the rightmost. Exact on the grid for piecewise-linear surfaces; the caller
+/// simplifies. Throws InputError when the list is empty.
+Outline mean_outline(const std::vector<Outline>& outlines, double spacing);
+
 /// Douglas-Peucker simplification of an open polyline; the end points are kept.
 std::vector<dem::Vec2> simplify_polyline(const std::vector<dem::Vec2>& points, double tolerance);
 

@@ -85,6 +85,9 @@ def grain_polygons(f, snap):
 
 def pile_figures(out, report):
     path = os.path.join(out, "dem.h5")
+    members = report.get("ensemble", {}).get("members", [])
+    if not os.path.exists(path) and members:  # an ensemble: its first member's pile
+        path = os.path.join(out, "members", str(members[0]["seed"]), "dem.h5")
     if not os.path.exists(path):
         return
     import h5py
@@ -99,7 +102,8 @@ def pile_figures(out, report):
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.set_title(f"grains coloured by pressure (snapshot '{snap}')")
+        ax.set_title(f"grains coloured by pressure (snapshot '{snap}'"
+                     + (f", member {members[0]['seed']})" if members else ")"))
         fig.colorbar(pc, ax=ax, label="grain pressure [N/m]", shrink=0.8)
         save(fig, out, "pile_pressure.png")
 
@@ -129,11 +133,13 @@ def pile_figures(out, report):
         save(fig, out, "force_network.png")
 
 
-def profile_figures(out, data):
+def profile_figures(out, data, report):
     sources = sorted({s for s, _ in data})
     if not sources:
         return
-    # Base pressure: sigma_yy / rho g h at the lowest cut, every source.
+    members = len(report.get("ensemble", {}).get("members", []))
+    # Base pressure: sigma_yy / rho g h at the lowest cut, every source. An ensemble's mean is a
+    # line with a band of one standard error (over the members) either side.
     fig, ax = plt.subplots(figsize=(7, 4))
     for src in sources:
         d = data.get((src, "sigma_yy"))
@@ -142,13 +148,16 @@ def profile_figures(out, data):
         y0 = min(d)
         x, v, e = map(np.array, zip(*sorted(d[y0])))
         st = SOURCE_STYLE.get(src, {})
-        if src == "dem":
+        if src == "dem" and members > 1:
+            ax.plot(x, v, color=st["color"], lw=1.4, label=f"dem, mean of {members} piles (y/h = {y0:g})")
+            ax.fill_between(x, v - e, v + e, color="0.6", alpha=0.5, lw=0, label="one standard error")
+        elif src == "dem":
             ax.errorbar(x, v, yerr=e if e.any() else None, label=f"{src} (y/h = {y0:g})", capsize=2, **st)
         else:
             ax.plot(x, v, label=f"{src} (y/h = {y0:g})", **st)
     ax.set_xlabel("x [m]")
     ax.set_ylabel(r"$\sigma_{yy} / \rho g h$ (compression > 0)")
-    ax.set_title("pressure under the pile")
+    ax.set_title("pressure under the pile" + (f" (ensemble of {members})" if members > 1 else ""))
     ax.legend()
     ax.grid(alpha=0.3)
     save(fig, out, "base_pressure.png")
@@ -258,6 +267,35 @@ def fit_figure(out, report):
     save(fig, out, "fit_scatter.png")
 
 
+def ensemble_figure(out, report):
+    """The members' flank angles, each member a point, with the ensemble mean and its one
+    standard error band per flank."""
+    e = report.get("ensemble")
+    if not e or not e.get("members"):
+        return
+    seeds = [m["seed"] for m in e["members"]]
+    k = np.arange(len(seeds))
+    fig, ax = plt.subplots(figsize=(max(5, 0.45 * len(seeds) + 2), 3.6))
+    for side, color, dx in (("left", "tab:blue", -0.1), ("right", "tab:red", 0.1)):
+        angle = np.array([m.get(f"repose_angle_{side}_deg") if m.get(f"repose_angle_{side}_deg") is not None
+                          else np.nan for m in e["members"]], dtype=float)
+        ax.plot(k + dx, angle, "o", color=color, label=f"{side} flank")
+        stat = e.get(f"repose_angle_{side}_deg", {})
+        if stat.get("mean") is not None:
+            mean, se = stat["mean"], stat.get("standard_error") or 0.0
+            ax.axhline(mean, color=color, lw=1)
+            ax.axhspan(mean - se, mean + se, color=color, alpha=0.15, lw=0)
+            ax.text(len(seeds) - 0.5, mean, f" {mean:.1f} ± {se:.1f}", color=color, va="center")
+    ax.set_xticks(k)
+    ax.set_xticklabels([str(s) for s in seeds])
+    ax.set_xlabel("member (seed)")
+    ax.set_ylabel("repose angle [deg]")
+    ax.set_title(f"flank angles of {len(seeds)} piles: mean and one standard error")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, out, "ensemble_angles.png")
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: /usr/bin/python3 scripts/figures.py OUT")
@@ -265,7 +303,8 @@ def main():
     report_path = os.path.join(out, "report.json")
     report = json.load(open(report_path)) if os.path.exists(report_path) else {}
     pile_figures(out, report)
-    profile_figures(out, read_profiles(out))
+    profile_figures(out, read_profiles(out), report)
+    ensemble_figure(out, report)
     rve_figure(out)
     fit_figure(out, report)
 

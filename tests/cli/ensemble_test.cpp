@@ -5,6 +5,7 @@
 // mean wedge and the coarse fields average all members.
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -97,9 +98,29 @@ TEST_F(Ensemble, TheReportHoldsEveryMemberAndTheSampleStatistics) {
   EXPECT_NEAR(wedge["height_m"].get<double>(), e["height_m"]["mean"].get<double>(), 1e-12);
   EXPECT_NEAR(wedge["left_angle_deg"].get<double>(), e["repose_angle_left_deg"]["mean"].get<double>(), 1e-12);
   EXPECT_EQ(report["coarse"]["dem_files"].size(), seeds.size());
+  // The other ensemble mesh: the members' mean outline, from the same members (not poured again).
+  std::string text;
+  {
+    std::ifstream in(ensemble_scene);
+    std::stringstream s;
+    s << in.rdbuf();
+    text = s.str();
+  }
+  const std::string wedge_line = "kind = \"wedge\"";
+  ASSERT_NE(text.find(wedge_line), std::string::npos);
+  text.replace(text.find(wedge_line), wedge_line.size(), "kind = \"dem_outline\"");
+  const auto outline = run("run " + write_scene("outline.toml", text) + " -o " + path("out") + " -q");
+  ASSERT_EQ(outline.exit_code, 0) << outline.output;
+  const auto mesh = report_of(path("out"))["mesh"];
+  EXPECT_EQ(mesh["kind"], "dem_outline");
+  EXPECT_EQ(mesh["mean_outline_of"].get<int>(), int(seeds.size()));
+  // Its height is the mean outline's peak: no higher than the tallest member.
+  double tallest = 0;
+  for (double h : heights) tallest = std::max(tallest, h);
+  EXPECT_LE(mesh["height_m"].get<double>(), tallest * (1 + 1e-9) + 0.004);
 }
 
-TEST_F(Ensemble, AStoppedMemberContinuesToTheSameFiles) {
+TEST_F(Ensemble, AStoppedOrKilledMemberContinuesToTheSameFiles) {
   // The unbroken ensemble, then one whose second member was stopped part way (as a killed run
   // leaves it: a checkpoint and no dem.h5) and is then continued by `pilelab run`.
   ASSERT_EQ(run("run " + ensemble_scene + " -o " + path("unbroken") + " -q -j 1").exit_code, 0);
@@ -114,6 +135,19 @@ TEST_F(Ensemble, AStoppedMemberContinuesToTheSameFiles) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("member 4 (stopped)"), std::string::npos) << resumed.output;
   expect_same_members(path("unbroken"), path("broken"));
+  // A run killed with SIGKILL while two members pour side by side (their children die with
+  // it), then resumed: the same files as the unbroken ensemble.
+  const std::string killed = path("killed");
+  const std::string script = "( " + std::string(PILELAB_BINARY) + " run " + ensemble_scene + " -o " + killed +
+                             " -q -P 2 -j 1 & pid=$!; while [ ! -e " + killed +
+                             "/members/4/checkpoint.h5 ] && kill -0 $pid 2>/dev/null; do sleep 0.02; done; "
+                             "kill -9 $pid; wait $pid; sleep 0.5 )";
+  run(script, "", /*prefix_binary=*/false);
+  ASSERT_FALSE(std::filesystem::exists(killed + "/members/5/dem.h5")) << "the kill came after the members were poured";
+  const auto after_kill = run("run " + ensemble_scene + " -o " + killed + " -j 1");
+  ASSERT_EQ(after_kill.exit_code, 0) << after_kill.output;
+  expect_same_members(path("unbroken"), killed);
+  EXPECT_TRUE(same_bytes(path("unbroken") + "/fields.h5", killed + "/fields.h5"));
   // A second run pours nothing again.
   const auto again = run("run " + ensemble_scene + " -o " + path("broken") + " -j 1");
   ASSERT_EQ(again.exit_code, 0) << again.output;

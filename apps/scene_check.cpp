@@ -1,0 +1,38 @@
+#include "apps/scene_check.h"
+
+#include <filesystem>
+
+#include "coarse/coarse_scene.h"
+#include "common/ensemble.h"
+#include "common/scene_reader.h"
+#include "common/scene_tables.h"
+#include "compare/compare_run.h"
+#include "dem/dem_scene.h"
+#include "mesh/pile_mesh.h"
+#ifdef PILELAB_WITH_CONTINUUM
+#include "continuum/settings.h"
+#endif
+
+namespace pilelab::app {
+
+std::vector<std::string> check_scene(const std::string& path) {
+  SceneReader reader = SceneReader::from_file(path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const std::string out = "OUT";  // defaults of file keys only; nothing is opened
+  std::vector<std::string> found;
+  reader.get_string("scene.name", "");
+  reader.get_string("scene.description", "");
+  if (reader.has("scene")) found.push_back("scene");
+  if (reader.has("ensemble")) read_ensemble_scene(reader), found.push_back("ensemble");
+  if (reader.has("dem")) dem::read_dem_scene(reader), found.push_back("dem");
+  if (reader.has("mesh")) mesh::read_mesh_scene(reader, dir), found.push_back("mesh");
+  if (reader.has("coarse")) coarse::read_coarse_scene(reader, dir, out), found.push_back("coarse");
+  if (reader.has("compare")) compare::read_compare_scene(reader, dir, out), found.push_back("compare");
+#ifdef PILELAB_WITH_CONTINUUM
+  if (reader.has("continuum")) continuum::read_continuum_scene(reader, dir), found.push_back("continuum");
+#endif
+  reader.reject_unknown({"scene", "ensemble", "dem", "mesh", "coarse", "compare"}, scene_tables());
+  return found;
+}
+
+}  // namespace pilelab::app

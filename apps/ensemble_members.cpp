@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "apps/child_process.h"
 #include "apps/parallel.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -95,32 +96,12 @@ void pour_here(const Member& m, int threads, bool quiet) {
   dem::run_dem(o);
 }
 
-// One member as a child `pilelab dem` process, its output in the member's dem.log. The child
-// dies with this process (a killed `pilelab run` leaves no orphan pouring on).
+// One member as a child `pilelab dem` process, its output in the member's dem.log; it dies
+// with this process.
 pid_t spawn_member(const Member& m, int threads) {
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  std::vector<std::string> args = {self, "dem", m.scene_file, "-o", m.dir, "-j", std::to_string(threads)};
+  std::vector<std::string> args = {own_executable(), "dem", m.scene_file, "-o", m.dir, "-j", std::to_string(threads)};
   if (m.state == MemberState::stopped) args.push_back("--restart");
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error(std::string("cannot start a member process: ") + std::strerror(errno));
-  if (pid == 0) {
-    prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (getppid() != parent) _exit(127);  // the parent died before the line above
-    const int log = open(m.log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (log >= 0) {
-      dup2(log, STDOUT_FILENO);
-      dup2(log, STDERR_FILENO);
-      close(log);
-    }
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(self.c_str(), argv.data());
-    std::fprintf(stderr, "cannot run %s: %s\n", self.c_str(), std::strerror(errno));
-    _exit(127);
-  }
-  return pid;
+  return start_child(args, m.log_file);
 }
 
 int cores() { return std::max(1u, std::thread::hardware_concurrency()); }

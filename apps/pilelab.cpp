@@ -8,8 +8,10 @@
 
 #include "apps/commands.h"
 #include "common/error.h"
+#include "common/hdf5_file.h"
 
 int main(int argc, char** argv) {
+  pilelab::disable_hdf5_exit_handler();
   CLI::App app{"pilelab: 2D sand piles by DEM, coarse-grained and compared with continuum models"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "pilelab 0.1.0");

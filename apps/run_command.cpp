@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "apps/child_process.h"
 #include "apps/commands.h"
 #include "apps/ensemble_members.h"
 #include "apps/parallel.h"
@@ -246,10 +247,7 @@ void run_pipeline(const RunOptions& opt) {
   const bool root = world == nullptr || world->root();
   if (!ensemble.empty() && !scene.has("dem"))
     throw InputError(opt.scene_path + ": [ensemble] needs a [dem] table: the members are poured from it");
-  std::error_code made;
-  if (root) std::filesystem::create_directories(opt.out_dir, made);
-  if (made) throw InputError(opt.out_dir + ": cannot create the output directory: " + made.message());
-  if (world) world->barrier();
+  on_root(world, [&] { prepare_output_directory(opt.out_dir); });
   const auto out = [&](const std::string& f) { return (std::filesystem::path(opt.out_dir) / f).string(); };
   const std::string state_path = out("stages.json");
   nlohmann::json state = nlohmann::json::object();
@@ -433,9 +431,12 @@ void run_pipeline(const RunOptions& opt) {
 
   // Figures from whatever ran (Debian's python3 with matplotlib and h5py).
   const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
+  // A child that dies with this process: a killed run leaves no script writing into OUT.
   if (root && std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
-    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + opt.out_dir + "'" + (opt.quiet ? " > /dev/null" : "");
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("figures: " + cmd + " failed");
+    const int code = wait_for_child(start_child({"/usr/bin/python3", script, opt.out_dir}, opt.quiet ? "/dev/null" : ""));
+    if (code != 0)
+      throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
+                               std::to_string(code) + ")");
   }
 }
 

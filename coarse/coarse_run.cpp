@@ -128,6 +128,42 @@ void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nod
     add(qs[q].name, [&](std::size_t i) { return samples.stats[q][i].mean; });
     if (with_stderr) add(qs[q].name + "_stderr", [&](std::size_t i) { return samples.stats[q][i].stderr_; });
   }
+  // Vectors for ParaView's Glyph and Warp: the displacement, and the principal axes of the
+  // mean stress (compressive, compression positive) and of the fabric, each scaled by its
+  // principal value (an axis has no sign: the arrow's direction is arbitrary up to +-).
+  const auto index_of = [&](const std::string& name) {
+    for (std::size_t q = 0; q < qs.size(); ++q)
+      if (qs[q].name == name) return static_cast<int>(q);
+    return -1;
+  };
+  const auto mean = [&](int q, std::size_t i) { return q < 0 ? 0.0 : samples.stats[q][i].mean; };
+  const auto add_vector = [&](const std::string& name, auto vector_of) {
+    VtuField f{name, std::vector<double>(3 * n), 3};
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::array<double, 2> v = vector_of(i);
+      f.values[3 * i] = v[0];
+      f.values[3 * i + 1] = v[1];
+    }
+    fields.push_back(std::move(f));
+  };
+  // Principal pair of the symmetric tensor [[a, c], [c, b]]: the larger eigenvalue (first) and
+  // the smaller, each with its unit eigenvector.
+  const auto principal = [](double a, double b, double c, bool major) -> std::array<double, 2> {
+    const double centre = 0.5 * (a + b), radius = std::hypot(0.5 * (a - b), c);
+    const double lambda = major ? centre + radius : centre - radius;
+    const double theta = 0.5 * std::atan2(2.0 * c, a - b) + (major ? 0.0 : 0.5 * M_PI);
+    return {lambda * std::cos(theta), lambda * std::sin(theta)};
+  };
+  const int ux = index_of("displacement_x"), uy = index_of("displacement_y");
+  if (ux >= 0 && uy >= 0) add_vector("displacement", [&](std::size_t i) { return std::array<double, 2>{mean(ux, i), mean(uy, i)}; });
+  const int sxx = index_of("stress_xx"), syy = index_of("stress_yy"), sxy = index_of("stress_xy");
+  for (const bool major : {true, false})
+    add_vector(major ? "stress_major_axis" : "stress_minor_axis", [&](std::size_t i) {
+      return principal(-mean(sxx, i), -mean(syy, i), -mean(sxy, i), major);  // of the compression
+    });
+  const int fxx = index_of("fabric_xx"), fyy = index_of("fabric_yy"), fxy = index_of("fabric_xy");
+  add_vector("fabric_major_axis", [&](std::size_t i) { return principal(mean(fxx, i), mean(fyy, i), mean(fxy, i), true); });
+
   std::vector<std::array<double, 2>> nodes;
   for (const auto& p : m.nodes) nodes.push_back({p.x(), p.y()});
   if (on_nodes) write_triangle_vtu(path, nodes, m.triangles, fields);
@@ -186,9 +222,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       read_coarse_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
   reader.reject_unknown({"coarse"}, scene_tables());
   if (!opt.dem_files.empty() && !reader.has("coarse.dem_files")) settings.dem_files = opt.dem_files;
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out_dir, ec);
-  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+  prepare_output_directory(opt.out_dir);
 
   const mesh::TriangleMesh mesh = mesh::read_triangle_mesh(settings.mesh_file);
   const Domain domain = domain_of(mesh);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include "common/error.h"
@@ -51,10 +52,42 @@ void write_atomically(const std::string& path, const std::function<void(const st
 void write_text_atomically(const std::string& path, const std::string& text) {
   write_atomically(path, [&](const std::string& tmp) {
     std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw InputError("cannot create " + tmp + ": " + std::strerror(errno));
     out << text;
     out.close();
-    if (!out) throw InputError("cannot write " + tmp);
+    if (!out) throw InputError("cannot write " + tmp + ": " + std::strerror(errno ? errno : EIO));
   });
+}
+
+namespace {
+// The PID of NAME.tmp.PID, or 0 when the name is not of that form.
+pid_t temporary_file_owner(const std::string& name) {
+  const std::size_t dot = name.rfind(".tmp.");
+  if (dot == std::string::npos) return 0;
+  const std::string digits = name.substr(dot + 5);
+  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return static_cast<pid_t>(std::stol(digits));
+}
+}  // namespace
+
+void prepare_output_directory(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create the output directory: " + ec.message());
+  const std::string probe = (fs::path(dir) / (".pilelab-write-probe." + std::to_string(::getpid()))).string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) throw InputError(dir + ": cannot write in the output directory: " + std::strerror(errno));
+  const bool written = ::write(fd, "x", 1) == 1;
+  const int error = errno;
+  ::close(fd);
+  ::unlink(probe.c_str());
+  if (!written) throw InputError(dir + ": cannot write in the output directory: " + std::strerror(error));
+  // Leftovers of killed runs: a temporary file whose writer is no longer alive.
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const pid_t owner = temporary_file_owner(entry.path().filename().string());
+    if (owner > 0 && owner != ::getpid() && ::kill(owner, 0) != 0 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+  }
 }
 
 std::string read_text_file(const std::string& path) {

@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/error.h"
@@ -70,6 +71,8 @@ void create_parent_groups(hid_t file, const std::string& object_path, const std:
   if (slash != std::string::npos && slash > 0) create_groups(file, object_path.substr(0, slash), file_path);
 }
 }  // namespace
+
+void disable_hdf5_exit_handler() { H5dont_atexit(); }
 
 H5File H5File::create(const std::string& path) {
   silence();
@@ -232,13 +235,15 @@ void H5File::set_attribute(const std::string& object_path, const std::string& na
   ensure_group(object_path);
   Handle obj(open_object(id_, object_path));
   if (obj.id < 0) fail(object_path, "no such object");
+  // Variable-length UTF-8, as h5py writes a Python str (and reads back as str, not bytes).
   Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.id, value.size() + 1);
+  H5Tset_size(type.id, H5T_VARIABLE);
   H5Tset_cset(type.id, H5T_CSET_UTF8);
   Handle space(H5Screate(H5S_SCALAR));
   if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
   Handle a(H5Acreate2(obj.id, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT));
-  if (a.id < 0 || H5Awrite(a.id, type.id, value.c_str()) < 0) fail(object_path, "cannot write attribute " + name);
+  const char* text = value.c_str();
+  if (a.id < 0 || H5Awrite(a.id, type.id, &text) < 0) fail(object_path, "cannot write attribute " + name);
 }
 
 namespace {
@@ -304,6 +309,14 @@ std::string H5File::attribute_string(const std::string& object_path, const std::
   if (H5Aread(a.id, type.id, s.data()) < 0) fail(object_path, "cannot read attribute " + name);
   while (!s.empty() && s.back() == '\0') s.pop_back();
   return s;
+}
+
+std::vector<double> H5File::read_finite_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims) const {
+  std::vector<double> v = read_doubles(dataset, dims);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      fail(dataset, "value " + std::to_string(i) + " is " + (std::isnan(v[i]) ? "NaN" : "infinite") + "; expected finite numbers");
+  return v;
 }
 
 }  // namespace pilelab

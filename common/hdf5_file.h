@@ -8,6 +8,12 @@
 
 namespace pilelab {
 
+/// Keeps the HDF5 library from closing its objects in an exit handler. After a failed write
+/// (a full disk) HDF5 holds objects it can no longer flush, and its exit handler crashed on
+/// them (a segmentation fault after the clear error message). Our files are closed by RAII,
+/// so nothing is left for that handler to do. Call first in main, before any HDF5 use.
+void disable_hdf5_exit_handler();
+
 class H5File {
  public:
   /// Creates (truncates) a file for writing.
@@ -40,6 +46,8 @@ class H5File {
   void write_string(const std::string& dataset, const std::string& text);
 
   std::vector<double> read_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims = nullptr) const;
+  /// read_doubles that refuses a NaN or an infinity, naming the dataset and its first bad index.
+  std::vector<double> read_finite_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims = nullptr) const;
   std::vector<std::int64_t> read_ints(const std::string& dataset, std::vector<std::uint64_t>* dims = nullptr) const;
   std::vector<std::uint64_t> read_uints(const std::string& dataset) const;
   std::string read_string(const std::string& dataset) const;

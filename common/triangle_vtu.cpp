@@ -12,7 +12,9 @@ void write_arrays(std::ostringstream& out, const char* tag, const std::vector<Vt
   if (fields.empty()) return;
   out << "      <" << tag << ">\n";
   for (const auto& f : fields) {
-    out << "        <DataArray type=\"Float64\" Name=\"" << f.name << "\" format=\"ascii\">\n         ";
+    out << "        <DataArray type=\"Float64\" Name=\"" << f.name << "\"";
+    if (f.components != 1) out << " NumberOfComponents=\"" << f.components << "\"";
+    out << " format=\"ascii\">\n         ";
     for (double v : f.values) out << ' ' << v;
     out << "\n        </DataArray>\n";
   }

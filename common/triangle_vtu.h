@@ -1,5 +1,5 @@
 #pragma once
-// A triangulation with named scalar fields as a VTK XML unstructured grid (.vtu, ASCII), for
+// A triangulation with named scalar and vector fields as a VTK XML unstructured grid (.vtu, ASCII), for
 // ParaView and meshio. Written atomically.
 #include <array>
 #include <string>
@@ -10,7 +10,8 @@ namespace pilelab {
 
 struct VtuField {
   std::string name;
-  std::vector<double> values;  ///< one per node (point data) or per triangle (cell data)
+  std::vector<double> values;  ///< components per node (point data) or per triangle (cell data)
+  int components = 1;          ///< 3 for a vector (x, y, 0), which ParaView can glyph or warp by
 };
 
 void write_triangle_vtu(const std::string& path, const std::vector<std::array<double, 2>>& nodes,

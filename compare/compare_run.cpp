@@ -332,7 +332,7 @@ nlohmann::json run_fit(const FitOptions& opt) {
   Triangulation mesh;
   const PointFields dem = read_dem_fields(opt.fields_path, &mesh);
   const double spacing = fit_sample_spacing(opt.fields_path, opt.sample_spacing_m);
-  std::filesystem::create_directories(opt.out_dir);
+  prepare_output_directory(opt.out_dir);
   std::vector<FitSample> samples;
   std::vector<FitResult> fits;
   const nlohmann::json section =
@@ -383,6 +383,25 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   };
   for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
     if (dem.has(q)) add_field(std::string("dem_") + q, dem.at(q), dem.valid.at(q));
+  // Masks (1 where the source has a value), since a field written as 0 where it has none
+  // cannot tell "no data" from zero; and displacements as vectors for Glyph and Warp.
+  const auto add_mask = [&](const std::string& name, const std::vector<char>& ok) {
+    VtuField f{name, std::vector<double>(ok.size())};
+    for (std::size_t i = 0; i < ok.size(); ++i) f.values[i] = ok[i] ? 1.0 : 0.0;
+    vtu.push_back(std::move(f));
+  };
+  const auto add_vector = [&](const std::string& name, const PointFields& p) {
+    if (!p.has("displacement_x") || !p.has("displacement_y")) return;
+    VtuField f{name, std::vector<double>(3 * p.points.size(), 0.0), 3};
+    for (std::size_t i = 0; i < p.points.size(); ++i)
+      if (p.valid.at("displacement_x")[i] && p.valid.at("displacement_y")[i]) {
+        f.values[3 * i] = p.at("displacement_x")[i];
+        f.values[3 * i + 1] = p.at("displacement_y")[i];
+      }
+    vtu.push_back(std::move(f));
+  };
+  if (dem.has("stress_yy")) add_mask("dem_has_data", dem.valid.at("stress_yy"));
+  add_vector("dem_displacement", dem);
 
   // DEM against each model.
   nlohmann::json models = nlohmann::json::object();
@@ -422,7 +441,9 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
       if (model.has("displacement_x") && dem.has("displacement_x")) {
         add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
         add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
+        add_vector(name + "_displacement", model);
       }
+      if (model.has("stress_yy")) add_mask(name + "_has_data", model.valid.at("stress_yy"));
       models[name] = m;
     }
   }

@@ -32,7 +32,7 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   PointFields out;
   out.source = path;
   std::vector<std::uint64_t> dims;
-  const auto xy = f.read_doubles("/fields/points", &dims);
+  const auto xy = f.read_finite_doubles("/fields/points", &dims);
   if (dims.size() != 2 || dims[1] != 2 || xy.size() != 2 * dims[0])
     throw InputError(path + ": /fields/points must have shape (k, 2)");
   for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
@@ -60,7 +60,7 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   if (mesh) {
     // Integrals index the fields by node and the nodes by triangle: shapes and indices are
     // checked here, once, so that a damaged file is an error and not a read past an array.
-    const auto nodes = f.read_doubles("/mesh/nodes", &dims);
+    const auto nodes = f.read_finite_doubles("/mesh/nodes", &dims);
     if (dims.size() != 2 || dims[1] != 2 || nodes.size() != 2 * dims[0])
       throw InputError(path + ": /mesh/nodes must have shape (n, 2)");
     mesh->nodes.clear();
@@ -90,7 +90,10 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
 
 std::vector<std::string> model_names(const std::string& path) {
   H5File f = H5File::open_read(path);
-  return f.list("/");
+  std::vector<std::string> names;
+  for (const std::string& name : f.list("/"))
+    if (name != "mesh") names.push_back(name);  // the triangulation, not a model
+  return names;
 }
 
 PointFields read_model_fields(const std::string& path, const std::string& model) {
@@ -100,7 +103,7 @@ PointFields read_model_fields(const std::string& path, const std::string& model)
   PointFields out;
   out.source = path + " (" + model + ")";
   std::vector<std::uint64_t> dims;
-  const auto xy = f.read_doubles(g + "/points", &dims);
+  const auto xy = f.read_finite_doubles(g + "/points", &dims);
   if (dims.size() != 2 || dims[1] != 2) throw InputError(path + ": " + g + "/points must have shape (k, 2)");
   for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
   for (const std::string& name : f.list(g)) {

@@ -16,9 +16,13 @@ namespace pilelab::continuum {
 
 using namespace dealii;
 
-std::string write_vtu(const DataOut<2>& data_out, const std::string& out_dir, const std::string& name,
+std::string write_vtu(DataOut<2>& data_out, const std::string& out_dir, const std::string& name,
                       MPI_Comm comm) {
   namespace fs = std::filesystem;
+  // No date and time in the file: the same scene gives the same bytes.
+  DataOutBase::VtkFlags flags;
+  flags.print_date_and_time = false;
+  data_out.set_flags(flags);
   const unsigned rank = Utilities::MPI::this_mpi_process(comm);
   const unsigned n_ranks = Utilities::MPI::n_mpi_processes(comm);
   auto write_with = [](const std::string& path, const std::function<void(std::ostream&)>& write) {
@@ -145,14 +149,26 @@ std::vector<Point<2>> model_output_points(const Triangulation<2>& tria) {
   return points;
 }
 
-void write_models_h5(const std::string& path, const std::vector<Point<2>>& points,
+void write_models_h5(const std::string& path, const Triangulation<2>& tria, const std::vector<Point<2>>& points,
                      const std::vector<ModelFields>& models, double rho_g_h, double height_m) {
+  // The vertices in the order model_output_points lists them, and the triangles in those indices.
+  const auto& used = tria.get_used_vertices();
+  std::vector<std::int64_t> output_index(used.size(), -1);
+  std::int64_t vertex_count = 0;
+  for (std::size_t i = 0; i < used.size(); ++i)
+    if (used[i]) output_index[i] = vertex_count++;
+  std::vector<std::int64_t> triangles;
+  for (const auto& cell : tria.active_cell_iterators())
+    for (unsigned int k = 0; k < cell->n_vertices(); ++k) triangles.push_back(output_index[cell->vertex_index(k)]);
+  const std::uint64_t corners = tria.n_active_cells() ? triangles.size() / tria.n_active_cells() : 3;
   write_atomically(path, [&](const std::string& tmp) {
     H5File f = H5File::create(tmp);
     f.set_attribute("/", "format", std::string("pilelab-models"));
     f.set_attribute("/", "format_version", std::int64_t(1));
     f.set_attribute("/", "rho_g_h_N_per_m", rho_g_h);
     f.set_attribute("/", "height_m", height_m);
+    f.set_attribute("/", "vertex_count", vertex_count);
+    f.write("/mesh/triangles", triangles, {tria.n_active_cells(), corners});
     f.set_attribute("/", "note", std::string("stress_* tension positive (N/m, 2D); pressure and principal "
                                              "stresses compression positive; NaN: point outside the mesh"));
     std::vector<double> xy;

@@ -18,7 +18,7 @@ namespace pilelab::continuum {
 /// Writes OUT/<name>.vtu on one rank; on several, OUT/<name>_rank<r>.vtu per rank and
 /// OUT/<name>.pvtu from rank 0. Removes the other layout's stale file. data_out must hold
 /// only this rank's cells and have its patches built. Returns the file to open in ParaView.
-std::string write_vtu(const dealii::DataOut<2>& data_out, const std::string& out_dir, const std::string& name,
+std::string write_vtu(dealii::DataOut<2>& data_out, const std::string& out_dir, const std::string& name,
                       MPI_Comm comm);
 
 /// Values of named quantities at a point. Returns false when the point's cell is not owned by
@@ -50,10 +50,13 @@ struct ModelFields {
 };
 
 /// Writes OUT/models.h5 atomically: root attributes format = "pilelab-models", format_version = 1,
-/// and per model a group with /MODEL/points (k, 2), one dataset per quantity (attribute unit)
-/// and the model's attributes.
-void write_models_h5(const std::string& path, const std::vector<dealii::Point<2>>& points,
-                     const std::vector<ModelFields>& models, double rho_g_h, double height_m);
+/// vertex_count (the first vertex_count points are the mesh vertices, the rest the cell
+/// centres), /mesh/triangles (m, 3) in those vertex indices, and per model a group with
+/// /MODEL/points (k, 2), one dataset per quantity (attribute unit) and the model's attributes.
+/// points are model_output_points(tria).
+void write_models_h5(const std::string& path, const dealii::Triangulation<2>& tria,
+                     const std::vector<dealii::Point<2>>& points, const std::vector<ModelFields>& models,
+                     double rho_g_h, double height_m);
 
 /// The points models.h5 carries: every mesh vertex, then every cell centre (coarse/ samples the
 /// DEM at one or the other, and compare/ matches points by their coordinates).

@@ -182,7 +182,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
   report["wall_time_s"] = total.wall_time();
   on_rank0(comm, [&] {
     write_profile_values((fs::path(o.out_dir) / "profiles.csv").string(), outputs.profile_rows);
-    write_models_h5((fs::path(o.out_dir) / "models.h5").string(), outputs.points, outputs.fields, rho_g_h,
+    write_models_h5((fs::path(o.out_dir) / "models.h5").string(), *tria, outputs.points, outputs.fields, rho_g_h,
                     pile.height_m);
     write_report_section((fs::path(o.out_dir) / "report.json").string(), "continuum", report);
   });

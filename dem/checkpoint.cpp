@@ -165,7 +165,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
                      "other grain shapes, masses or moments of inertia than the checkpoint's" + restart_anew);
   MotionState& m = world.motion();
   for (int k = 0; k < 6; ++k) {
-    std::vector<double> d = f.read_doubles("/world/d" + std::to_string(k));
+    std::vector<double> d = f.read_finite_doubles("/world/d" + std::to_string(k));
     if (d.size() != m.d[k].size())
       throw InputError(path + ": /world/d" + std::to_string(k) + ": expected " + std::to_string(m.d[k].size()) +
                        " values for this scene, found " + std::to_string(d.size()));
@@ -186,10 +186,10 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   world.restore_deepest_overlap(deepest);
 
   const auto a = f.read_ints("/contacts/a"), b = f.read_ints("/contacts/b");
-  const auto spring = f.read_doubles("/contacts/spring"), point = f.read_doubles("/contacts/point"),
-             normal = f.read_doubles("/contacts/normal"), fn = f.read_doubles("/contacts/normal_force"),
-             ft = f.read_doubles("/contacts/tangential_force"), area = f.read_doubles("/contacts/area"),
-             chord = f.read_doubles("/contacts/chord");
+  const auto spring = f.read_finite_doubles("/contacts/spring"), point = f.read_finite_doubles("/contacts/point"),
+             normal = f.read_finite_doubles("/contacts/normal"), fn = f.read_finite_doubles("/contacts/normal_force"),
+             ft = f.read_finite_doubles("/contacts/tangential_force"), area = f.read_finite_doubles("/contacts/area"),
+             chord = f.read_finite_doubles("/contacts/chord");
   const std::size_t n = a.size();
   if (b.size() != n || spring.size() != n || point.size() != 2 * n || normal.size() != 2 * n || fn.size() != n ||
       ft.size() != n || area.size() != n || chord.size() != n)

@@ -144,11 +144,27 @@ void expect_dims(const H5File& f, const std::string& name, const Dims& got, cons
   if (got != want) fail(f.path(), name, "shape " + dims_text(got) + ", expected " + dims_text(want));
 }
 
+// Every number of a dem.h5 is a physical value: a NaN or an infinity is damage, refused with
+// its row (and column) rather than carried into the fields.
 std::vector<double> read_doubles(const H5File& f, const std::string& name, const Dims& want) {
   Dims got;
   std::vector<double> v = f.read_doubles(name, &got);
   expect_dims(f, name, got, want);
+  const std::size_t columns = want.size() > 1 ? static_cast<std::size_t>(want[1]) : 1;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      fail(f.path(), name,
+           "row " + std::to_string(i / columns) + (columns > 1 ? ", column " + std::to_string(i % columns) : std::string()) +
+               " is " + (std::isnan(v[i]) ? "NaN" : "infinite") + "; expected finite numbers");
   return v;
+}
+
+// A grain's mass, moment of inertia and area are positive (walls carry zeros).
+void require_positive_for_grains(const H5File& f, const std::string& name, const std::vector<double>& v,
+                                 const std::vector<std::int64_t>& is_wall) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!is_wall[i] && !(v[i] > 0))
+      fail(f.path(), name, "row " + std::to_string(i) + " (a grain) is " + std::to_string(v[i]) + "; expected a positive value");
 }
 
 std::vector<std::int64_t> read_ints(const H5File& f, const std::string& name, const Dims& want) {
@@ -215,6 +231,13 @@ void read_bodies(const H5File& f, DemFile& out) {
   const std::vector<double> area = read_doubles(f, "/bodies/area", {n});
   const std::vector<double> radius = read_doubles(f, "/bodies/radius", {n});
   const std::vector<double> bounding = read_doubles(f, "/bodies/bounding_radius", {n});
+  require_positive_for_grains(f, "/bodies/mass", out.mass, out.is_wall);
+  require_positive_for_grains(f, "/bodies/moment_of_inertia", out.moment_of_inertia, out.is_wall);
+  require_positive_for_grains(f, "/bodies/area", area, out.is_wall);
+  for (std::uint64_t i = 0; i < n; ++i)  // a disc's radius; polygons carry 0
+    if (kind[i] == 1 && !out.is_wall[i] && !(radius[i] > 0))
+      fail(f.path(), "/bodies/radius", "row " + std::to_string(i) + " (a disc) is " + std::to_string(radius[i]) +
+                                           "; expected a positive radius");
   const std::vector<std::int64_t> offset = read_ints(f, "/bodies/vertex_offset", {n + 1});
   if (offset[0] != 0) fail(f.path(), "/bodies/vertex_offset", "must start at 0");
   for (std::uint64_t i = 0; i < n; ++i)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -254,6 +255,8 @@ void PileProtocol::try_insert() {
   state_.next_insert_time = std::max(state_.next_insert_time + 1.0 / p.rate, t);
 }
 
+void PileProtocol::check_state_is_finite() const { world_.require_finite_state(); }
+
 void PileProtocol::remove_lost_grains() {
   std::vector<int> lost;
   for (int i : world_.active_grains())
@@ -311,6 +314,7 @@ void PileProtocol::step() {
     for (int w : funnel_walls_) world_.set_wall_velocity(w, {0.0, 0.0});  // the funnel has arrived
   world_.step();
   if (world_.steps() % check_interval == 0) {
+    check_state_is_finite();
     remove_lost_grains();
     advance_phase();
   }

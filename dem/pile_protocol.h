@@ -89,6 +89,7 @@ class PileProtocol {
  private:
   void build_container();
   void try_insert();
+  void check_state_is_finite() const;  ///< throws, naming the first grain that is not
   void remove_lost_grains();
   void advance_phase();
   double funnel_x(double t) const;

@@ -11,6 +11,7 @@
 #include <omp.h>
 #endif
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
@@ -50,8 +51,8 @@ class FrameWriter {
   void rebuild(const std::vector<double>& times) {
     pvd_ = PvdSeries(dir_ + "/dem.pvd");
     for (std::size_t k = 0; k < times.size(); ++k) {
-      pvd_.add(times[k], frame_name("grains", k), 0);
-      pvd_.add(times[k], frame_name("contacts", k), 1);
+      pvd_.add(times[k], frame_name("grains", k), 0, "grains");
+      pvd_.add(times[k], frame_name("contacts", k), 1, "contacts");
     }
     pvd_.write();
   }
@@ -233,10 +234,12 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   reader.get_string("scene.description", "");
   const DemScene scene = read_dem_scene(reader);
   reader.reject_unknown({"scene", "dem"}, scene_tables());
+  // Every key has a default, so an empty or unrelated scene pours a pile; say so (also quiet).
+  if (!reader.has("dem"))
+    std::fprintf(stderr, "warning: %s has no [dem] table: pouring the default pile (%d grains, docs/SCENES.md)\n",
+                 opt.scene_path.c_str(), scene.grain_count);
 
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out_dir, ec);
-  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+  prepare_output_directory(opt.out_dir);
 #ifdef _OPENMP
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const int threads = omp_get_max_threads();

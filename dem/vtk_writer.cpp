@@ -1,5 +1,6 @@
 #include "dem/vtk_writer.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
@@ -86,9 +87,12 @@ std::string vtu_text(const Grid& g, double time) {
       << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       << "  <UnstructuredGrid>\n"
       << "    <FieldData>\n"
-      << "      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">"
-      << std::setprecision(std::numeric_limits<double>::max_digits10) << time << std::setprecision(10)
-      << "</DataArray>\n"
+      // TimeValue is the name ParaView reads as the time of each file of a series; TIME is kept
+      // for readers of earlier files.
+      << "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">"
+      << std::setprecision(std::numeric_limits<double>::max_digits10) << time << "</DataArray>\n"
+      << "      <DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">" << time
+      << std::setprecision(10) << "</DataArray>\n"
       << "    </FieldData>\n"
       << "    <Piece NumberOfPoints=\"" << g.point_count() << "\" NumberOfCells=\"" << g.types.size() << "\">\n"
       << "      <Points>\n";
@@ -125,6 +129,23 @@ void add_outline(Grid& g, const World& world, int body) {
   g.close_cell(vtk_polygon);
 }
 
+// Each body's stress moment sum over its contacts of (x_c - x_b) (x) f_c, f_c the force on the
+// body (paper eq. 10 for one grain, before the division by its area); xx, xy, yx, yy.
+std::vector<std::array<double, 4>> stress_moments(const World& world) {
+  std::vector<std::array<double, 4>> m(world.body_count(), {0.0, 0.0, 0.0, 0.0});
+  for (const Contact& c : world.contacts()) {
+    const Vec2 f = c.force_on_b();
+    for (const auto& [body, sign] : {std::pair<int, double>{c.b, 1.0}, std::pair<int, double>{c.a, -1.0}}) {
+      const Vec2 arm = c.point - world.position(body);
+      m[body][0] += sign * arm.x() * f.x();
+      m[body][1] += sign * arm.x() * f.y();
+      m[body][2] += sign * arm.y() * f.x();
+      m[body][3] += sign * arm.y() * f.y();
+    }
+  }
+  return m;
+}
+
 std::vector<std::int64_t> contacts_per_body(const World& world) {
   std::vector<std::int64_t> count(world.body_count(), 0);
   for (const Contact& c : world.contacts()) {
@@ -157,8 +178,9 @@ void write_grains_vtu(const std::string& path, const World& world) {
 
   Grid g;
   const std::vector<std::int64_t> count = contacts_per_body(world);
+  const std::vector<std::array<double, 4>> moment = stress_moments(world);
   std::vector<std::int64_t> body, is_wall, contact_count;
-  std::vector<double> velocity, angular_velocity, contact_force, speed;
+  std::vector<double> velocity, angular_velocity, contact_force, speed, angle, area, radius, stress, pressure;
   for (int b : bodies) {
     add_outline(g, world, b);
     const Vec2 v = world.velocity(b), f = world.contact_force(b);
@@ -169,6 +191,16 @@ void write_grains_vtu(const std::string& path, const World& world) {
     contact_force.insert(contact_force.end(), {f.x(), f.y(), 0.0});
     contact_count.push_back(count[b]);
     speed.push_back(v.norm());
+    angle.push_back(world.angle(b));
+    const double a = world.shape(b).area;
+    area.push_back(a);
+    radius.push_back(std::sqrt(a / M_PI));
+    // The grain's mean stress (tension positive, symmetric part) and pressure, N/m; walls 0.
+    const auto& m = moment[b];
+    const double sxx = world.is_wall(b) ? 0.0 : m[0] / a, syy = world.is_wall(b) ? 0.0 : m[3] / a;
+    const double sxy = world.is_wall(b) ? 0.0 : 0.5 * (m[1] + m[2]) / a;
+    stress.insert(stress.end(), {sxx, sxy, 0.0, sxy, syy, 0.0, 0.0, 0.0, 0.0});
+    pressure.push_back(-0.5 * (sxx + syy));
   }
   g.array("body", "Int64").ints = std::move(body);
   g.array("is_wall", "Int32").ints = std::move(is_wall);
@@ -177,6 +209,11 @@ void write_grains_vtu(const std::string& path, const World& world) {
   g.array("contact_force", "Float64", 3).reals = std::move(contact_force);
   g.array("contact_count", "Int32").ints = std::move(contact_count);
   g.array("speed", "Float64").reals = std::move(speed);
+  g.array("angle", "Float64").reals = std::move(angle);
+  g.array("area", "Float64").reals = std::move(area);
+  g.array("equivalent_radius", "Float64").reals = std::move(radius);
+  g.array("stress", "Float64", 9).reals = std::move(stress);
+  g.array("pressure", "Float64").reals = std::move(pressure);
   write_text_atomically(path, vtu_text(g, world.time()));
 }
 
@@ -210,8 +247,8 @@ void write_contacts_vtu(const std::string& path, const World& world) {
 
 PvdSeries::PvdSeries(std::string path) : path_(std::move(path)) {}
 
-void PvdSeries::add(double time, const std::string& vtu_file_relative, int part) {
-  entries_.push_back({time, vtu_file_relative, part});
+void PvdSeries::add(double time, const std::string& vtu_file_relative, int part, const std::string& name) {
+  entries_.push_back({time, vtu_file_relative, part, name});
 }
 
 void PvdSeries::write() const {
@@ -221,8 +258,9 @@ void PvdSeries::write() const {
       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       << "  <Collection>\n";
   for (const Entry& e : entries_)
-    out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\" file=\""
-        << xml_escape(e.file) << "\"/>\n";
+    out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\""
+        << (e.name.empty() ? std::string() : " name=\"" + xml_escape(e.name) + "\"") << " file=\"" << xml_escape(e.file)
+        << "\"/>\n";
   out << "  </Collection>\n</VTKFile>\n";
   write_text_atomically(path_, out.str());
 }

@@ -29,8 +29,8 @@ class PvdSeries {
  public:
   explicit PvdSeries(std::string path);
   /// vtu_file_relative is relative to the directory of the .pvd; part tells apart files of the
-  /// same time (e.g. 0 grains, 1 contacts).
-  void add(double time, const std::string& vtu_file_relative, int part);
+  /// same time (e.g. 0 grains, 1 contacts), and name is the block's name in ParaView.
+  void add(double time, const std::string& vtu_file_relative, int part, const std::string& name = "");
   void write() const;
   std::size_t size() const { return entries_.size(); }
   const std::string& path() const { return path_; }
@@ -40,6 +40,7 @@ class PvdSeries {
     double time;
     std::string file;
     int part;
+    std::string name;
   };
   std::string path_;
   std::vector<Entry> entries_;

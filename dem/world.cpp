@@ -4,6 +4,7 @@
 #include <chrono>
 #include <iterator>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -266,6 +267,7 @@ void World::find_candidate_pairs(bool list_outdated) {
 }
 
 void World::build_neighbour_list() {
+  require_finite_state();
   std::vector<std::uint64_t> old_neighbours;
   old_neighbours.swap(neighbours_);
   neighbours_stale_ = false;
@@ -618,6 +620,33 @@ void World::gather_and_correct() {
     << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
     << " s) above the stability limit, or bodies placed overlapping deeply";
   throw std::runtime_error(s.str());
+}
+
+int World::first_non_finite_grain() const {
+  int first = -1;
+  for (int i : active_grains_) {
+    const double* d0 = &motion_.d[0][3 * i];
+    const double* d1 = &motion_.d[1][3 * i];
+    // Any NaN or infinity makes the sum NaN or infinite (0 * inf is NaN).
+    const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
+    if (!std::isfinite(sum) && (first < 0 || i < first)) first = i;
+  }
+  return first;
+}
+
+void World::require_finite_state() const {
+  const int body = first_non_finite_grain();
+  if (body < 0) return;
+  const Vec2 x = position(body), v = velocity(body);
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "the DEM state is no longer finite at t = %.9g s (step %lld): body %d has position (%g, %g) m, angle "
+                "%g rad, velocity (%g, %g) m/s, angular velocity %g rad/s (the first such body by index, not "
+                "necessarily the first to go wrong). Usual causes: a time step above the stability limit "
+                "(dem.integrator), or grains placed deeply overlapping",
+                time(), static_cast<long long>(steps()), body, x.x(), x.y(), angle(body), v.x(), v.y(),
+                angular_velocity(body));
+  throw std::runtime_error(text);
 }
 
 double World::kinetic_energy() const {

@@ -131,6 +131,13 @@ class World {
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
 
   double kinetic_energy() const;  ///< of active grains, translation + rotation [J]
+  /// The first active grain (lowest body index) whose position, angle or velocity is not a
+  /// finite number, or -1. A NaN or an infinity never heals, so a run checks this now and then.
+  int first_non_finite_grain() const;
+  /// Throws std::runtime_error naming first_non_finite_grain(), its state, the time and the step,
+  /// if there is one. Run before every neighbour-list build (a grid over an infinite coordinate
+  /// would never end) and by the pile protocol every few steps.
+  void require_finite_state() const;
   /// The deepest overlap met so far (the first, if two steps reach the same depth).
   const DeepestOverlap& deepest_overlap() const { return deepest_overlap_; }
 

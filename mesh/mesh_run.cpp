@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
@@ -29,9 +30,7 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
       spec.dem_files = opt.member_dem_files;
   }
 
-  std::error_code ec;
-  std::filesystem::create_directories(opt.out_dir, ec);
-  if (ec) throw InputError(opt.out_dir + ": cannot create output directory: " + ec.message());
+  prepare_output_directory(opt.out_dir);
   const std::string msh = (std::filesystem::path(opt.out_dir) / "pile.msh").string();
   write_mesh(spec, msh);
   const TriangleMesh mesh = read_triangle_mesh(msh);

@@ -300,15 +300,25 @@ TriangleMesh read_triangle_mesh(const std::string& path) {
   std::map<std::size_t, int> index_of;
   for (std::size_t i = 0; i < node_tags.size(); ++i) {
     index_of[node_tags[i]] = static_cast<int>(i);
+    if (!std::isfinite(coords[3 * i]) || !std::isfinite(coords[3 * i + 1]))
+      throw InputError(path + ": node " + std::to_string(node_tags[i]) + " has a coordinate that is not a finite number");
     mesh.nodes.emplace_back(coords[3 * i], coords[3 * i + 1]);
   }
+  // An element's node tag must name a node of the file.
+  const auto node_index = [&](std::size_t tag, std::size_t element) {
+    const auto it = index_of.find(tag);
+    if (it == index_of.end())
+      throw InputError(path + ": element " + std::to_string(element) + " refers to node " + std::to_string(tag) +
+                       ", which the file does not define");
+    return it->second;
+  };
   std::vector<std::size_t> element_tags, element_nodes;
   gmsh::model::mesh::getElementsByType(2, element_tags, element_nodes);  // 3-node triangles
   if (element_tags.empty())
     throw InputError(path + ": the mesh holds no 3-node triangles (expected a 2D linear triangulation)");
   for (std::size_t e = 0; e < element_tags.size(); ++e) {
     std::array<int, 3> t{};
-    for (int k = 0; k < 3; ++k) t[k] = index_of.at(element_nodes[3 * e + k]);
+    for (int k = 0; k < 3; ++k) t[k] = node_index(element_nodes[3 * e + k], element_tags[e]);
     const double twice_area = dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
     if (!(twice_area > 0))
       throw InputError(path + ": triangle " + std::to_string(element_tags[e]) +
@@ -321,14 +331,19 @@ TriangleMesh read_triangle_mesh(const std::string& path) {
     std::string name;
     gmsh::model::getPhysicalName(dim, tag, name);
     int id = tag;
-    if (name.rfind("BoundaryID:", 0) == 0) id = std::stoi(name.substr(11));
+    if (name.rfind("BoundaryID:", 0) == 0) {
+      const std::string digits = name.substr(11);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(path + ": physical curve \"" + name + "\": expected BoundaryID:<number>");
+      id = std::stoi(digits);
+    }
     std::vector<int> entities;
     gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
     for (int entity : entities) {
       std::vector<std::size_t> tags, nodes;
       gmsh::model::mesh::getElementsByType(1, tags, nodes, entity);
       for (std::size_t e = 0; e < tags.size(); ++e) {
-        mesh.boundary_edges.push_back({index_of.at(nodes[2 * e]), index_of.at(nodes[2 * e + 1])});
+        mesh.boundary_edges.push_back({node_index(nodes[2 * e], tags[e]), node_index(nodes[2 * e + 1], tags[e])});
         mesh.boundary_edge_ids.push_back(id);
       }
     }

@@ -17,6 +17,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+import pilelab  # noqa: E402
+
 SOURCE_STYLE = {"dem": dict(color="k", marker="o", ms=3, lw=1.2),
                 "elastic": dict(color="tab:blue", lw=1.8),
                 "fpa": dict(color="tab:red", lw=1.8),
@@ -37,100 +40,47 @@ def save(fig, out, name):
 
 
 def read_profiles(out):
-    path = os.path.join(out, "profiles.csv")
-    data = defaultdict(lambda: defaultdict(list))  # (source, quantity) -> y/h -> [(x, v, e)]
-    if not os.path.exists(path):
-        return data
-    with open(path) as f:
-        for r in csv.DictReader(f):
-            err = float(r["stderr"]) if r["stderr"] not in ("", None) else 0.0
-            data[(r["source"], r["quantity"])][float(r["y_over_h"])].append((float(r["x_m"]), float(r["value"]), err))
-    return data
-
-
-def grain_polygons(f, snap):
-    """World-frame outlines and per-grain pressure of a snapshot (eq. 10 per grain)."""
-    offsets = f["bodies/vertex_offset"][:]
-    vertices = f["bodies/vertices"][:]
-    kind = f["bodies/kind"][:]
-    radius = f["bodies/radius"][:]
-    area = f["bodies/area"][:]
-    s = f["snapshots/" + snap]
-    body, pos, ang = s["body"][:], s["position"][:], s["angle"][:]
-    polys = []
-    for b, p, a in zip(body, pos, ang):
-        if kind[b] == 1:
-            t = np.linspace(0, 2 * np.pi, 17)[:-1]
-            local = np.c_[radius[b] * np.cos(t), radius[b] * np.sin(t)]
-        else:
-            local = vertices[offsets[b]:offsets[b + 1]]
-        c, sn = np.cos(a), np.sin(a)
-        polys.append(p + local @ np.array([[c, sn], [-sn, c]]))
-    # Per-grain stress moment sum x (x) F over its contacts; pressure = -tr/2 / area.
-    index = {int(b): i for i, b in enumerate(body)}
-    pair = s["contacts/pair"][:]
-    point = s["contacts/point"][:]
-    force = s["contacts/force"][:]  # on the second body of the pair
-    trace = np.zeros(len(body))
-    for (a, b), x, fb in zip(pair, point, force):
-        if b in index:
-            i = index[b]
-            trace[i] += np.dot(x - pos[i], fb)
-        if a in index:
-            i = index[a]
-            trace[i] += np.dot(x - pos[i], -fb)
-    pressure = -0.5 * trace / area[body]
-    return polys, pressure, s
+    """(source, quantity) -> y/h -> [(x, value, stderr)], from profiles.csv."""
+    run = pilelab.load(out)
+    return {pair: {h: list(map(tuple, rows.tolist())) for h, rows in run.profiles(*pair).items()}
+            for pair in run.profiles()}
 
 
 def pile_figures(out, report):
-    path = os.path.join(out, "dem.h5")
-    members = report.get("ensemble", {}).get("members", [])
-    if not os.path.exists(path) and members:  # an ensemble: its first member's pile
-        path = os.path.join(out, "members", str(members[0]["seed"]), "dem.h5")
-    if not os.path.exists(path):
+    run = pilelab.load(out)
+    dem, members = run.dem, run.members
+    if dem is None and members:  # an ensemble: its first member's pile
+        dem = members[0].dem
+    if dem is None:
         return
-    import h5py
-    with h5py.File(path, "r") as f:
-        snap = "settled" if "settled" in f["snapshots"] else list(f["snapshots"])[-1]
-        polys, pressure, s = grain_polygons(f, snap)
-        fig, ax = plt.subplots(figsize=(11, 4.2))
-        pc = PolyCollection(polys, array=pressure, cmap="viridis", edgecolors="none")
-        pc.set_clim(0, np.percentile(pressure, 98))
-        ax.add_collection(pc)
-        ax.autoscale_view()
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_title(f"grains coloured by pressure (snapshot '{snap}'"
-                     + (f", member {members[0]['seed']})" if members else ")"))
-        fig.colorbar(pc, ax=ax, label="grain pressure [N/m]", shrink=0.8)
-        save(fig, out, "pile_pressure.png")
+    s = dem.snapshot()
+    pressure = s.grain_pressure()
+    fig, ax = plt.subplots(figsize=(11, 4.2))
+    pc = PolyCollection(s.polygons(16), array=pressure, cmap="viridis", edgecolors="none")
+    pc.set_clim(0, np.percentile(pressure, 98))
+    ax.add_collection(pc)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"grains coloured by pressure (snapshot '{s.name}'" + (f", member {members[0].seed})" if members else ")"))
+    fig.colorbar(pc, ax=ax, label="grain pressure [N/m]", shrink=0.8)
+    save(fig, out, "pile_pressure.png")
 
-        body = s["body"][:]
-        pos = s["position"][:]
-        index = {int(b): i for i, b in enumerate(body)}
-        pair = s["contacts/pair"][:]
-        fn = s["contacts/normal_force"][:]
-        point = s["contacts/point"][:]
-        segs, widths = [], []
-        mean_f = max(fn.mean(), 1e-30)
-        for (a, b), x, F in zip(pair, point, fn):
-            if a in index and b in index:
-                segs.append([pos[index[a]], pos[index[b]]])
-            elif b in index:
-                segs.append([pos[index[b]], x])
-            else:
-                continue
-            widths.append(0.4 * F / mean_f)
-        fig, ax = plt.subplots(figsize=(11, 4.2))
-        ax.add_collection(LineCollection(segs, linewidths=widths, colors="k"))
-        ax.autoscale_view()
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-        ax.set_title(f"contact force network (line width ~ normal force; mean {mean_f:.3g} N)")
-        save(fig, out, "force_network.png")
+    # Contact network: centre to centre, or centre to the contact point on a wall.
+    c = s.contacts
+    b_centre = s.position[c.grain_b]
+    a_end = np.where((c.grain_a >= 0)[:, None], s.position[np.maximum(c.grain_a, 0)], c.point)
+    mean_f = max(c.normal_force.mean() if len(c) else 0.0, 1e-30)
+    fig, ax = plt.subplots(figsize=(11, 4.2))
+    ax.add_collection(LineCollection(np.stack([a_end, b_centre], axis=1), linewidths=0.4 * c.normal_force / mean_f,
+                                     colors="k"))
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"contact force network (line width ~ normal force; mean {mean_f:.3g} N)")
+    save(fig, out, "force_network.png")
 
 
 def profile_figures(out, data, report):

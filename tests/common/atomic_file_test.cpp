@@ -111,3 +111,41 @@ TEST_F(AtomicFile, RefusedHdf5LeavesTheOldFile) {
   EXPECT_EQ(H5File::open_read(path("a.h5")).read_doubles("/x"), small);
   EXPECT_EQ(files_in_dir(), 1u);
 }
+
+// The output directory is proved writable before a run starts, with the system's reason when
+// it is not (root may write anywhere its permissions allow, but not into /proc).
+TEST_F(AtomicFile, UnwritableOutputDirectoryIsFoundAtOnceWithTheReason) {
+  EXPECT_NO_THROW(prepare_output_directory(path("new/deeper")));
+  EXPECT_TRUE(fs::is_directory(path("new/deeper")));
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("new/deeper")), fs::directory_iterator()), 0) << "the probe stayed";
+  std::ofstream(path("plain_file")) << "x";
+  try {
+    prepare_output_directory(path("plain_file/out"));
+    ADD_FAILURE() << "a directory below a file was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plain_file/out"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cannot create"), std::string::npos) << e.what();
+  }
+  try {
+    prepare_output_directory("/proc");
+    ADD_FAILURE() << "/proc was accepted as an output directory";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/proc: cannot write in the output directory: "), std::string::npos) << e.what();
+  }
+}
+
+// Temporary files of dead writers are removed at the next run; a live writer's, and names that
+// only look alike, are kept.
+TEST_F(AtomicFile, TemporaryFilesOfDeadProcessesAreRemoved) {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);  // now dead: its PID names no process (until reused, rarely soon)
+  const std::string dead = path("dem.h5.tmp." + std::to_string(child));
+  const std::string alive = path("dem.h5.tmp." + std::to_string(::getppid()));
+  const std::string lookalike = path("notes.tmp.draft");
+  for (const auto& f : {dead, alive, lookalike}) std::ofstream(f) << "half";
+  prepare_output_directory(dir_.string());
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(alive));
+  EXPECT_TRUE(fs::exists(lookalike));
+}

@@ -295,6 +295,51 @@ TEST_F(DemFileTest, WronglyShapedDataset) {
                      {path, "/snapshots/settled/position", "(4, 3)", "(4, 2)"});
 }
 
+// A NaN or an infinity anywhere in the physical data is refused with the dataset and the row,
+// and a grain's mass must be positive: damage must never flow on into fields as NaN.
+TEST_F(DemFileTest, NonFiniteAndNonPositiveValuesAreNamedWithTheirRow) {
+  const auto overwrite_value = [](hid_t f, const char* dataset, hsize_t index, double value) {
+    const hid_t ds = H5Dopen2(f, dataset, H5P_DEFAULT);
+    ASSERT_GE(ds, 0) << dataset;
+    const hid_t space = H5Dget_space(ds);
+    hsize_t dims[2] = {0, 1};
+    const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+    std::vector<double> v(dims[0] * (rank == 2 ? dims[1] : 1));
+    ASSERT_LT(index, v.size()) << dataset;
+    H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    v[index] = value;
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Sclose(space);
+    H5Dclose(ds);
+  };
+  struct Case {
+    const char* dataset;
+    hsize_t index;
+    double value;
+    std::vector<std::string> expected;
+    bool in_snapshot;
+  };
+  TinyWorld t;
+  const int last_body = t.world.body_count() - 1;  // a grain (walls come first)
+  const std::vector<Case> cases = {
+      {"/bodies/mass", hsize_t(last_body), NAN, {"/bodies/mass", "row " + std::to_string(last_body), "NaN"}, false},
+      {"/bodies/mass", hsize_t(last_body), -1.0, {"/bodies/mass", "row " + std::to_string(last_body), "positive"}, false},
+      {"/bodies/moment_of_inertia", hsize_t(last_body), 0.0, {"/bodies/moment_of_inertia", "positive"}, false},
+      {"/snapshots/settled/position", 3, NAN, {"/snapshots/settled/position", "row 1, column 1", "NaN"}, true},
+      {"/snapshots/settled/position", 0, INFINITY, {"/snapshots/settled/position", "row 0, column 0", "infinite"}, true},
+      {"/snapshots/settled/contacts/force", 2, NAN, {"/snapshots/settled/contacts/force", "row 1, column 0"}, true}};
+  for (const Case& c : cases) {
+    const std::string path = written_dem_file(t);
+    damage(path, [&](hid_t f) { overwrite_value(f, c.dataset, c.index, c.value); });
+    std::vector<std::string> expected = c.expected;
+    expected.insert(expected.begin(), path);
+    if (c.in_snapshot)
+      expect_input_error([&] { read_dem_file(path).snapshot("settled"); }, expected);
+    else
+      expect_input_error([&] { read_dem_file(path); }, expected);
+  }
+}
+
 TEST_F(DemFileTest, VertexOffsetsMustMatchVertices) {
   TinyWorld t;
   const std::string path = written_dem_file(t);
@@ -330,8 +375,8 @@ TEST_F(DemFileTest, VtuAndPvdFiles) {
   EXPECT_NE(slurp(empty).find("NumberOfCells=\"0\""), std::string::npos);
 
   PvdSeries pvd(file("dem.pvd"));
-  pvd.add(t.world.time(), "vtk/grains_0000.vtu", 0);
-  pvd.add(t.world.time(), "vtk/contacts_0000.vtu", 1);
+  pvd.add(t.world.time(), "vtk/grains_0000.vtu", 0, "grains");
+  pvd.add(t.world.time(), "vtk/contacts_0000.vtu", 1, "contacts");
   pvd.write();
   EXPECT_EQ(pvd.size(), 2u);
   const std::string text = slurp(file("dem.pvd"));

@@ -18,7 +18,8 @@ import meshio
 import numpy as np
 
 GRAIN_ARRAYS = {"body": 1, "is_wall": 1, "velocity": 3, "angular_velocity": 1,
-                "contact_force": 3, "contact_count": 1, "speed": 1}
+                "contact_force": 3, "contact_count": 1, "speed": 1, "angle": 1, "area": 1,
+                "equivalent_radius": 1, "stress": 9, "pressure": 1}
 CONTACT_ARRAYS = {"body_a": 1, "body_b": 1, "normal_force": 1, "tangential_force": 1,
                   "force": 3, "overlap_area": 1, "chord": 1}
 
@@ -46,8 +47,10 @@ def check_vtu(path, cell_type, expected_cells, arrays):
         shape = (expected_cells,) if components == 1 else (expected_cells, components)
         if values.shape != shape:
             fail(f"{path}: {name} has shape {values.shape}, expected {shape}")
-    if "TIME" not in mesh.field_data:
-        fail(f"{path}: no TIME field data")
+    if "TIME" not in mesh.field_data or "TimeValue" not in mesh.field_data:
+        fail(f"{path}: no TIME and TimeValue field data")
+    if not np.array_equal(mesh.field_data["TIME"], mesh.field_data["TimeValue"]):
+        fail(f"{path}: TIME and TimeValue differ")
     return mesh
 
 
@@ -66,6 +69,19 @@ def check_grains(path, expected_cells):
         fail(f"{path}: speed is not |velocity|")
     if not (velocity[:, 2] == 0).all():
         fail(f"{path}: velocity has a z component")
+    # Per grain: the pressure is minus half the stress trace, the stress symmetric with a zero z
+    # row and column, the equivalent radius that of a disc of the grain's area.
+    stress = np.concatenate(mesh.cell_data["stress"])
+    pressure = np.concatenate(mesh.cell_data["pressure"])
+    area = np.concatenate(mesh.cell_data["area"])
+    if not np.allclose(pressure, -0.5 * (stress[:, 0] + stress[:, 4]), rtol=1e-8, atol=1e-12 * np.abs(stress).max()):
+        fail(f"{path}: pressure is not -(stress_xx + stress_yy)/2")
+    if not (np.array_equal(stress[:, 1], stress[:, 3]) and (stress[:, [2, 5, 6, 7, 8]] == 0).all()):
+        fail(f"{path}: stress is not a symmetric in-plane tensor")
+    if not np.allclose(np.concatenate(mesh.cell_data["equivalent_radius"]), np.sqrt(area / np.pi), rtol=1e-8):
+        fail(f"{path}: equivalent_radius is not sqrt(area / pi)")
+    if (stress[is_wall == 1] != 0).any():
+        fail(f"{path}: walls carry a stress")
 
 
 def check_empty_contacts(path):
@@ -86,7 +102,9 @@ def check_pvd(path):
         fail(f"{path}: no DataSet entries")
     for d in datasets:
         float(d.get("timestep"))
-        int(d.get("part"))
+        part = int(d.get("part"))
+        if d.get("name") != ("grains", "contacts")[part]:
+            fail(f"{path}: part {part} is named {d.get('name')!r}, expected {('grains', 'contacts')[part]!r}")
         file = os.path.join(os.path.dirname(path), d.get("file"))
         if not os.path.exists(file):
             fail(f"{path}: lists {d.get('file')}, which does not exist")

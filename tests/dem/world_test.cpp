@@ -150,6 +150,31 @@ TEST(World, FreeFlightIsExactForEveryScheme) {
   }
 }
 
+TEST(World, TheFirstNonFiniteGrainIsFound) {
+  // Three free grains, the second and third given a NaN and an infinite velocity: both are not
+  // finite, and the lowest body index is reported. Without them, none is.
+  WorldSettings s;
+  s.time_step = 1e-4;
+  World w(s);
+  std::vector<int> g;
+  for (int k = 0; k < 3; ++k) g.push_back(w.add_grain(make_disc(0.003), 5000.0));
+  w.activate(g[0], {0.0, 1.0}, 0.0, {0.1, 0.0}, 0.0);
+  EXPECT_EQ(w.first_non_finite_grain(), -1);
+  w.activate(g[2], {0.1, 1.0}, 0.0, {INFINITY, 0.0}, 0.0);
+  w.activate(g[1], {0.2, 1.0}, 0.0, {0.0, NAN}, 0.0);
+  EXPECT_EQ(w.first_non_finite_grain(), g[1]);
+  // The step stops before its neighbour list is built over them, naming the body and the step.
+  try {
+    w.step();
+    ADD_FAILURE() << "a step over a NaN state went on";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("body " + std::to_string(g[1]) + " "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(step 0)"), std::string::npos) << e.what();
+  }
+  w.deactivate(g[1]);
+  EXPECT_EQ(w.first_non_finite_grain(), g[2]);
+}
+
 TEST(World, DeactivatedGrainLosesItsContacts) {
   World w = random_heap(200, 3, {0, 0});
   w.step();

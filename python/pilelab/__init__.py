@@ -1,0 +1,21 @@
+"""Read pilelab results in Python: one call loads a run directory.
+
+    import pilelab
+    run = pilelab.load("out/quick")
+    run.report["dem"]["repose_angle_left_deg"]
+    s = run.dem.snapshot("settled")          # grains and contacts of one instant
+    s.position, s.units["position"]          # (n, 2) array, "m"
+    s.contacts.grain_b                       # rows into the snapshot's grain arrays (-1: a wall)
+    run.fields["stress_yy"], run.fields.stderr("stress_yy")
+    run.profiles("dem", "sigma_yy")          # the horizontal cuts of profiles.csv
+    [m.dem.snapshot().position for m in run.members]   # an ensemble's piles
+
+Pure Python on numpy and h5py (Debian's python3-numpy and python3-h5py). Files are opened only
+when a property is first used, and every string comes back as `str`. Units: every array has
+its unit in the `units` mapping of the object that holds it (SI, as docs/FORMAT.md lists them).
+"""
+from pilelab.dem import Contacts, DemFile, Snapshot
+from pilelab.fields import Fields, Models
+from pilelab.run import Member, Run, load
+
+__all__ = ["load", "Run", "Member", "DemFile", "Snapshot", "Contacts", "Fields", "Models"]

@@ -1,0 +1,154 @@
+"""A run directory: report.json, the scene, and the files of every stage, loaded on first use."""
+import csv
+import json
+import os
+from collections import defaultdict
+
+import numpy as np
+
+from pilelab.dem import DemFile
+from pilelab.fields import Fields, Models
+
+
+def _toml(text):
+    try:
+        import tomllib  # Python 3.11
+    except ImportError:  # pragma: no cover
+        return None
+    return tomllib.loads(text)
+
+
+class _Lazy:
+    """Runs the loader on first use and keeps the result."""
+
+    def __init__(self, loader):
+        self.loader = loader
+        self.done = False
+        self.value = None
+
+    def get(self):
+        if not self.done:
+            self.value, self.done = self.loader(), True
+        return self.value
+
+
+class Member:
+    """One pile of an ensemble: its seed, directory, report and dem.h5."""
+
+    def __init__(self, directory, seed):
+        self.seed = int(seed)
+        self.path = directory
+        self._report = _Lazy(lambda: _read_json(os.path.join(directory, "report.json")))
+        self._dem = _Lazy(lambda: _if_exists(os.path.join(directory, "dem.h5"), DemFile))
+
+    @property
+    def report(self):
+        return self._report.get()
+
+    @property
+    def dem(self):
+        return self._dem.get()
+
+
+class Run:
+    """The outputs of `pilelab run` (or of any stage) in one directory.
+
+    report: report.json as a dict ({} when missing). scene_text / scene: the scene (from
+    dem.h5, or the solve's copy), as text and parsed. dem, fields, models: DemFile, Fields,
+    Models, or None when the file is missing. profiles(source, quantity): the cuts of
+    profiles.csv. members: the ensemble's piles (empty for one pile)."""
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+        if not os.path.isdir(self.path):
+            raise FileNotFoundError(f"{self.path}: no such run directory")
+        self._report = _Lazy(lambda: _read_json(self.file("report.json")))
+        self._dem = _Lazy(lambda: _if_exists(self.file("dem.h5"), DemFile))
+        self._fields = _Lazy(lambda: _if_exists(self.file("fields.h5"), Fields))
+        self._models = _Lazy(lambda: _if_exists(self.file("models.h5"), Models))
+        self._profiles = _Lazy(lambda: _read_profiles(self.file("profiles.csv")))
+
+    def file(self, name):
+        return os.path.join(self.path, name)
+
+    @property
+    def report(self):
+        return self._report.get()
+
+    @property
+    def dem(self):
+        return self._dem.get()
+
+    @property
+    def fields(self):
+        return self._fields.get()
+
+    @property
+    def models(self):
+        return self._models.get()
+
+    @property
+    def scene_text(self):
+        if self.dem is not None:
+            return self.dem.scene
+        for candidate in ("solve_scene.toml",):
+            if os.path.exists(self.file(candidate)):
+                return open(self.file(candidate), encoding="utf-8").read()
+        if self.members and self.members[0].dem is not None:
+            return self.members[0].dem.scene
+        return ""
+
+    @property
+    def scene(self):
+        return _toml(self.scene_text) or {}
+
+    @property
+    def members(self):
+        e = self.report.get("ensemble", {})
+        return [Member(os.path.join(self.path, m["directory"]), m["seed"]) for m in e.get("members", [])]
+
+    def profiles(self, source=None, quantity=None):
+        """profiles.csv: with source and quantity, a dict y_over_h -> structured array of
+        (x_m, value, stderr) sorted by x; without them, the list of (source, quantity) pairs."""
+        table = self._profiles.get()
+        if source is None:
+            return sorted(table)
+        cuts = table.get((source, quantity), {})
+        return {h: np.array(sorted(rows), dtype=[("x_m", float), ("value", float), ("stderr", float)])
+                for h, rows in sorted(cuts.items())}
+
+    def base_pressure(self, source="dem"):
+        """sigma_yy / rho g h along the lowest cut: x [m], value, standard error (the profile the
+        paper's Fig. 9A plots; compression positive)."""
+        cuts = self.profiles(source, "sigma_yy")
+        if not cuts:
+            raise KeyError(f"{self.path}: profiles.csv has no sigma_yy rows of {source!r}")
+        rows = cuts[min(cuts)]
+        return rows["x_m"], rows["value"], rows["stderr"]
+
+
+def load(path):
+    """The run in directory path (see Run)."""
+    return Run(path)
+
+
+def _read_json(path):
+    if not os.path.exists(path):
+        return {}
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def _if_exists(path, reader):
+    return reader(path) if os.path.exists(path) else None
+
+
+def _read_profiles(path):
+    table = defaultdict(lambda: defaultdict(list))
+    if not os.path.exists(path):
+        return {}
+    with open(path, newline="", encoding="utf-8") as f:
+        for r in csv.DictReader(f):
+            err = float(r["stderr"]) if r["stderr"] not in ("", None) else 0.0
+            table[(r["source"], r["quantity"])][float(r["y_over_h"])].append((float(r["x_m"]), float(r["value"]), err))
+    return {k: dict(v) for k, v in table.items()}

@@ -1,0 +1,146 @@
+"""Two pictures of a pilelab run rendered by ParaView, headless:
+
+    xvfb-run -a pvpython scripts/paraview_pictures.py OUT
+
+OUT/figures/paraview_force_chains.png: the grains of the last frame coloured by their pressure,
+the contact network on top as tubes whose radius follows the normal force.
+OUT/figures/paraview_stress.png: the coarse-grained pressure on the mesh (fields.vtu) with the
+major compressive stress axes as glyphs scaled by their principal value.
+Either picture is skipped (with a line saying so) when its files are missing. For an ensemble
+the force chains are those of its first member.
+"""
+import json
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+from paraview.simple import (CellDatatoPointData, ColorBy, ExtractSurface, GetActiveViewOrCreate, GetSources, Hide, GetColorTransferFunction,
+                             Glyph, SaveScreenshot, Show, Threshold, Tube, XMLUnstructuredGridReader)
+
+
+def last_frame(directory):
+    """The grains and contacts files of the last frame listed in directory/dem.pvd."""
+    pvd = os.path.join(directory, "dem.pvd")
+    if not os.path.exists(pvd):
+        return None, None
+    frames = {}
+    for d in ET.parse(pvd).getroot().iter("DataSet"):
+        frames.setdefault(float(d.get("timestep")), {})[d.get("part")] = os.path.join(directory, d.get("file"))
+    last = frames[max(frames)]
+    return last.get("0"), last.get("1")
+
+
+def view_2d(size):
+    view = GetActiveViewOrCreate("RenderView")
+    for source in GetSources().values():  # nothing of the last picture shows
+        Hide(source, view)
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    view.Background = [1, 1, 1]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.CameraParallelProjection = 1
+    view.InteractionMode = "2D"
+    return view
+
+
+def frame_camera(view, source, size):
+    """Looks down z at the bounds of source, filling the picture."""
+    source.UpdatePipeline()
+    x0, x1, y0, y1, _, _ = source.GetDataInformation().GetBounds()
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    view.CameraFocalPoint = [cx, cy, 0.0]
+    view.CameraPosition = [cx, cy, 10.0]
+    view.CameraViewUp = [0, 1, 0]
+    aspect = size[0] / size[1]
+    view.CameraParallelScale = 0.55 * max(y1 - y0, (x1 - x0) / aspect)
+
+
+def force_chains(out, directory, png):
+    grains_file, contacts_file = last_frame(directory)
+    if not grains_file or not contacts_file:
+        print("paraview: no dem.pvd frames; no force-chain picture")
+        return False
+    view = view_2d([1800, 700])
+    bodies = XMLUnstructuredGridReader(FileName=[grains_file])
+    # The grains only (the plate and the funnel are far wider than the pile).
+    grains = Threshold(Input=bodies)
+    grains.Scalars = ["CELLS", "is_wall"]
+    try:
+        grains.LowerThreshold, grains.UpperThreshold = 0, 0
+    except AttributeError:  # ParaView before 5.10
+        grains.ThresholdRange = [0, 0]
+    g = Show(grains, view)
+    ColorBy(g, ("CELLS", "pressure"))
+    lut = GetColorTransferFunction("pressure")
+    lut.ApplyPreset("Viridis (matplotlib)", True)
+    g.SetScalarBarVisibility(view, True)
+    # A Tube needs lines as polydata with point scalars: surface first, then cell to point data
+    # (feeding the unstructured grid straight to Tube is what crashed).
+    contacts = XMLUnstructuredGridReader(FileName=[contacts_file])
+    lines = CellDatatoPointData(Input=ExtractSurface(Input=contacts))
+    tubes = Tube(Input=lines)
+    tubes.Scalars = ["POINTS", "normal_force"]
+    tubes.VaryRadius = "By Scalar"
+    tubes.Radius = 0.00025
+    tubes.RadiusFactor = 6.0
+    t = Show(tubes, view)
+    t.ColorArrayName = [None, ""]
+    t.AmbientColor = t.DiffuseColor = [0.1, 0.1, 0.1]
+    frame_camera(view, grains, [1800, 700])
+    SaveScreenshot(png, view, ImageResolution=[1800, 700])
+    print("wrote", png)
+    return True
+
+
+def stress_field(out, png):
+    fields = os.path.join(out, "fields.vtu")
+    if not os.path.exists(fields):
+        print("paraview: no fields.vtu; no stress picture")
+        return False
+    view = view_2d([1800, 700])
+    mesh = XMLUnstructuredGridReader(FileName=[fields])
+    m = Show(mesh, view)
+    ColorBy(m, ("POINTS", "pressure"))
+    GetColorTransferFunction("pressure").ApplyPreset("Viridis (matplotlib)", True)
+    m.SetScalarBarVisibility(view, True)
+    arrows = Glyph(Input=mesh, GlyphType="Line")
+    arrows.OrientationArray = ["POINTS", "stress_major_axis"]
+    arrows.ScaleArray = ["POINTS", "stress_major_axis"]
+    arrows.GlyphMode = "Every Nth Point"
+    arrows.Stride = 3
+    arrows.GlyphTransform.Translate = [-0.5, 0.0, 0.0]  # a line centred on its point: an axis
+    try:
+        bounds = mesh.GetDataInformation().GetBounds()
+        top = mesh.PointData["stress_major_axis"].GetRange(-1)[1]
+        arrows.ScaleFactor = 0.04 * (bounds[1] - bounds[0]) / max(top, 1e-30)
+    except Exception:  # noqa: BLE001 - keep ParaView's own scale
+        pass
+    a = Show(arrows, view)
+    a.ColorArrayName = [None, ""]
+    a.AmbientColor = a.DiffuseColor = [0.1, 0.1, 0.1]
+    frame_camera(view, mesh, [1800, 700])
+    SaveScreenshot(png, view, ImageResolution=[1800, 700])
+    print("wrote", png)
+    return True
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: xvfb-run -a pvpython scripts/paraview_pictures.py OUT")
+    out = sys.argv[1]
+    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    directory = out
+    report = os.path.join(out, "report.json")
+    if not os.path.exists(os.path.join(out, "dem.pvd")) and os.path.exists(report):
+        members = json.load(open(report)).get("ensemble", {}).get("members", [])
+        if members:
+            directory = os.path.join(out, members[0]["directory"])
+    force_chains(out, directory, os.path.join(out, "figures", "paraview_force_chains.png"))
+    stress_field(out, os.path.join(out, "figures", "paraview_stress.png"))
+
+
+if __name__ == "__main__":
+    main()

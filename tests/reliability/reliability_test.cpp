@@ -1,0 +1,69 @@
+// Failures of the machine and of the numbers end in a clear message and a non-zero exit, never
+// a crash: a full disk (a file-size limit standing in for it, so no mount is needed), a time
+// step far above the stability limit forced through, and an empty scene.
+#include <filesystem>
+
+#include "../cli/cli_test_support.h"
+
+using pilelab::test::CliTest;
+using pilelab::test::tiny_scene;
+
+class Reliability : public CliTest {
+ protected:
+  // No temporary file of a writer is left behind.
+  void expect_no_temporary_files(const std::string& dir) {
+    if (!std::filesystem::exists(dir)) return;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+      EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+};
+
+TEST_F(Reliability, AFullDiskIsAClearErrorWithoutACrash) {
+  // Files may not grow past the limit: at 16 KiB the first checkpoint (30 KB) cannot be
+  // written, at 48 KiB the frames and checkpoints fit and dem.h5 (55 KB) does not. The ignored
+  // SIGXFSZ makes the write fail (EFBIG) instead of killing the process.
+  const std::string scene = write_scene("tiny.toml", tiny_scene());
+  for (const int kib : {16, 48}) {
+    const std::string out = path("out" + std::to_string(kib));
+    const auto r = run("bash -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; exec " + std::string(PILELAB_BINARY) +
+                           " dem " + scene + " -o " + out + " -q -j 1\"",
+                       "", /*prefix_binary=*/false);
+    EXPECT_EQ(r.exit_code, 2) << kib << " KiB: expected a clear error (exit code 2), not a crash:\n" << r.output;
+    EXPECT_NE(r.output.find("pilelab: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(out), std::string::npos) << "the message should name the file:\n" << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out + "/dem.h5"));
+    expect_no_temporary_files(out);
+  }
+}
+
+TEST_F(Reliability, ATimeStepFarAboveTheLimitStopsWithTheFirstBadGrain) {
+  // Forced to 50 times the stability limit, the contacts blow up within a few hundred steps:
+  // the run must stop, naming a grain, the time and the step, and write no dem.h5.
+  std::string text = tiny_scene();
+  const std::string scheme = "scheme = \"verlet\"";
+  text.replace(text.find(scheme), scheme.size(),
+               scheme + "\ntime_step_s = 4e-4\nallow_unstable_time_step = true");
+  const auto r = run("dem " + write_scene("unstable.toml", text) + " -o " + path("out") + " -q -j 1");
+  if (r.exit_code == 0) {
+    // Grains may also fly off the plate before any number overflows: then every number written
+    // must be finite.
+    const auto finite = run("/usr/bin/python3 -c \"import h5py, numpy as np, sys; f = h5py.File('" + path("out/dem.h5") +
+                                "'); bad = []; f.visititems(lambda n, o: bad.append(n) if isinstance(o, h5py.Dataset) and "
+                                "o.dtype.kind == 'f' and not np.isfinite(o[()]).all() else None); print(bad); "
+                                "sys.exit(1 if bad else 0)\"",
+                            "", /*prefix_binary=*/false);
+    EXPECT_EQ(finite.exit_code, 0) << "dem.h5 holds non-finite numbers in " << finite.output;
+    return;
+  }
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("no longer finite"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("body "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(step "), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("out/dem.h5")));
+}
+
+TEST_F(Reliability, AnEmptySceneSaysItPoursTheDefaultPile) {
+  const auto r = run("dem " + write_scene("empty.toml", "") + " -o " + path("out") + " -q --stop-after-steps 10");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("has no [dem] table: pouring the default pile (500 grains"), std::string::npos) << r.output;
+}

@@ -13,6 +13,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include "continuum/stress_fields.h"
+#include "mesh/pile_mesh.h"
 
 namespace pilelab::continuum {
 
@@ -82,13 +83,13 @@ void ElasticProblem::setup_system() {
   } else {
     const Functions::ZeroFunction<2> zero(2);
     if (settings_.base == ElasticSettings::Base::rough)
-      VectorTools::interpolate_boundary_values(mapping, dof_handler_, 1, zero, constraints_);
+      VectorTools::interpolate_boundary_values(mapping, dof_handler_, mesh::BoundaryId::base, zero, constraints_);
     else
-      VectorTools::interpolate_boundary_values(mapping, dof_handler_, 1, zero, constraints_, fe_.component_mask(uy));
+      VectorTools::interpolate_boundary_values(mapping, dof_handler_, mesh::BoundaryId::base, zero, constraints_, fe_.component_mask(uy));
     bool has_side_wall = false;
-    for (const auto id : tria_.get_boundary_ids()) has_side_wall = has_side_wall || id == 4;
+    for (const auto id : tria_.get_boundary_ids()) has_side_wall = has_side_wall || id == mesh::BoundaryId::side_wall;
     if (has_side_wall)
-      VectorTools::interpolate_boundary_values(mapping, dof_handler_, 4, zero, constraints_, fe_.component_mask(ux));
+      VectorTools::interpolate_boundary_values(mapping, dof_handler_, mesh::BoundaryId::side_wall, zero, constraints_, fe_.component_mask(ux));
     if (settings_.base == ElasticSettings::Base::smooth && !has_side_wall) {
       // Only a horizontal translation is left free: fix u_x at the base vertex nearest the
       // axis. Every rank sees every cell, so all pick the same vertex.
@@ -97,7 +98,7 @@ void ElasticProblem::setup_system() {
       types::global_dof_index pinned = numbers::invalid_dof_index;
       for (const auto& cell : dof_handler_.active_cell_iterators())
         for (const auto f : cell->face_indices())
-          if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == 1)
+          if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == mesh::BoundaryId::base)
             for (unsigned v = 0; v < 2; ++v) {
               const double d = std::abs(cell->face(f)->vertex(v)[0] - axis);
               if (d < best - 1e-12 * (1 + std::abs(axis))) {
@@ -211,7 +212,7 @@ void ElasticProblem::compute_base_force() {
     if (!cell->is_locally_owned()) continue;
     area += cell->measure();
     for (const auto f : cell->face_indices()) {
-      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != mesh::BoundaryId::base) continue;
       fe_face.reinit(cell, f);
       fe_face[u].get_function_symmetric_gradients(solution_, eps);
       for (unsigned q = 0; q < eps.size(); ++q) {

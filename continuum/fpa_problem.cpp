@@ -1,5 +1,7 @@
 #include "continuum/fpa_problem.h"
 
+#include "mesh/pile_mesh.h"  // mesh::BoundaryId
+
 #include <cmath>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -18,7 +20,9 @@ using namespace dealii;
 namespace {
 constexpr double degree_to_rad = M_PI / 180.0;
 // Free-surface boundary ids (mesh/pile_mesh.h): left and right flank, top of a block.
-bool is_free_surface(types::boundary_id id) { return id == 2 || id == 3 || id == 5; }
+bool is_free_surface(types::boundary_id id) {
+  return id == mesh::BoundaryId::left_flank || id == mesh::BoundaryId::right_flank || id == mesh::BoundaryId::top;
+}
 }  // namespace
 
 FpaProblem::FpaProblem(const Triangulation2& tria, const FpaSettings& settings, double density, double gravity,
@@ -173,7 +177,7 @@ void FpaProblem::compute_base_force() {
       if ((k > 0 ? p.xy : -p.xy) > 0) minor_area += fe_values.JxW(q);
     }
     for (const auto f : cell->face_indices()) {
-      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != mesh::BoundaryId::base) continue;
       fe_face.reinit(cell, f);
       fe_face.get_function_values(solution_, values);
       for (unsigned q = 0; q < values.size(); ++q) {
@@ -212,7 +216,7 @@ double FpaProblem::base_pressure_error(const std::function<double(double)>& exac
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
     for (const auto f : cell->face_indices()) {
-      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != 1) continue;
+      if (!cell->face(f)->at_boundary() || cell->face(f)->boundary_id() != mesh::BoundaryId::base) continue;
       fe_face.reinit(cell, f);
       fe_face.get_function_values(solution_, values);
       const double k = closure_coefficient(*cell);

@@ -27,7 +27,7 @@ const Mapping<2>& simplex_mapping() {
 void check_has_base(const Triangulation<2>& tria, const std::string& what) {
   for (const auto& cell : tria.active_cell_iterators())
     for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == 1) return;
+      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == mesh::BoundaryId::base) return;
   throw InputError(what + ": the mesh has no base: expected boundary edges in the physical group "
                           "\"BoundaryID:1\" (the line y = 0 the pile rests on)");
 }
@@ -86,7 +86,7 @@ PileGeometry measure_pile(const Triangulation<2>& tria) {
   for (const auto& cell : tria.active_cell_iterators()) {
     g.area_m2 += cell->measure();
     for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == 1) g.base_length_m += cell->face(f)->measure();
+      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == mesh::BoundaryId::base) g.base_length_m += cell->face(f)->measure();
   }
   return g;
 }

@@ -209,6 +209,29 @@ void on_root(MpiWorld* world, F&& f) {
   }
 }
 
+// The last lines of a run, on stdout: where the results are, and what they cost. The whole
+// run's time adds the stages' own wall times from report.json (the DEM's over all its sessions).
+void print_summary(const std::string& out_dir, double invocation_s) {
+  const auto out = [&](const std::string& f) { return (std::filesystem::path(out_dir) / f).string(); };
+  std::string files;
+  for (const char* f : {"report.json", "dem.h5", "dem.pvd", "pile.msh", "fields.h5", "fields.vtu", "models.h5",
+                        "compare.vtu", "profiles.csv", "figures"})
+    if (std::filesystem::exists(out(f))) files += std::string(files.empty() ? "" : ", ") + f;
+  double whole = 0;
+  if (std::filesystem::exists(out("report.json"))) {
+    const nlohmann::json report = read_report(out("report.json"));
+    for (const auto& [section, values] : report.items())
+      if (values.is_object() && values.contains("wall_time_s") && values["wall_time_s"].is_number())
+        whole += section == "ensemble" ? 0.0 : values["wall_time_s"].get<double>();
+    if (report.contains("ensemble") && report["ensemble"].contains("members"))
+      for (const auto& m : report["ensemble"]["members"])
+        if (m.contains("wall_time_s") && m["wall_time_s"].is_number()) whole += m["wall_time_s"].get<double>();
+  }
+  std::printf("pilelab run: results in %s: %s\n", out_dir.c_str(), files.empty() ? "(none)" : files.c_str());
+  std::printf("pilelab run: wall time of this invocation %.1f s; of the whole run, all stages and sessions, %.1f s\n",
+              invocation_s, whole);
+}
+
 // The pile the later stages work on, as the DEM measured it: one pile's flanks and height, or
 // the means over an ensemble's members.
 std::optional<mesh::Wedge> measured_pile(const std::string& out_dir, const EnsembleSpec& ensemble) {
@@ -233,6 +256,7 @@ std::optional<mesh::Wedge> measured_pile(const std::string& out_dir, const Ensem
 }
 
 void run_pipeline(const RunOptions& opt) {
+  const auto invocation_start = std::chrono::steady_clock::now();
   // MPI, if a stage starts it, ends with the run (also when a stage throws).
   struct StopMpi {
     ~StopMpi() { MpiWorld::stop(); }
@@ -438,6 +462,7 @@ void run_pipeline(const RunOptions& opt) {
       throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
                                std::to_string(code) + ")");
   }
+  if (root) print_summary(opt.out_dir, std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation_start).count());
 }
 
 }  // namespace

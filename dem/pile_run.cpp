@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <thread>
 
@@ -228,6 +230,27 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
 }
 }  // namespace
 
+namespace {
+// SIGINT or SIGTERM during the pour: the loop writes a checkpoint at the end of its step and
+// stops, so that an interrupted run loses nothing and says how to go on.
+volatile std::sig_atomic_t interrupted_by = 0;
+extern "C" void note_interrupt(int signal) { interrupted_by = signal; }
+
+// Installs the handlers for the run and puts the previous ones back after it.
+struct InterruptGuard {
+  void (*previous_int)(int), (*previous_term)(int);
+  InterruptGuard() {
+    interrupted_by = 0;
+    previous_int = std::signal(SIGINT, note_interrupt);
+    previous_term = std::signal(SIGTERM, note_interrupt);
+  }
+  ~InterruptGuard() {
+    std::signal(SIGINT, previous_int);
+    std::signal(SIGTERM, previous_term);
+  }
+};
+}  // namespace
+
 nlohmann::json run_dem(const DemRunOptions& opt) {
   SceneReader reader = SceneReader::from_file(opt.scene_path);
   reader.get_string("scene.name", "");
@@ -250,6 +273,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
 
   PileProtocol protocol(scene, opt.scene_path);
   RunCounters counters;
+  const InterruptGuard interrupt_guard;
   const std::string checkpoint_path = opt.out_dir + "/checkpoint.h5";
   FrameWriter frames(opt.out_dir);
   if (opt.restart) {
@@ -279,7 +303,9 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     if (counters.wall_time_settled < 0 && !protocol.snapshots().empty()) counters.wall_time_settled = wall_before + elapsed();
     if (out.frame_interval > 0 && world.time() >= counters.frame_times.size() * out.frame_interval)
       frames.write(world, counters.frame_times);
-    const bool stop_now = opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps;
+    const bool interrupted = interrupted_by != 0;
+    const bool stop_now =
+        interrupted || (opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps);
     // Regular checkpoints fall due at multiples of the interval, whatever extra ones were written.
     const bool due = out.checkpoint_interval > 0 &&
                      std::floor(world.time() / out.checkpoint_interval) > std::floor(counters.last_checkpoint_time /
@@ -289,6 +315,16 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
       counters.last_checkpoint_time = world.time();
       counters.wall_time = wall_before + elapsed();
       write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
+    }
+    if (interrupted) {
+      const int signal = interrupted_by;
+      std::fprintf(stderr,
+                   "interrupted by %s at t = %.6f s (step %lld); the checkpoint %s holds the run: continue with "
+                   "`pilelab dem %s -o %s --restart` (or `pilelab run ... --restart`)\n",
+                   signal == SIGINT ? "SIGINT" : "SIGTERM", world.time(), static_cast<long long>(world.steps()),
+                   checkpoint_path.c_str(), opt.scene_path.c_str(), opt.out_dir.c_str());
+      std::fflush(stderr);
+      std::_Exit(128 + signal);  // as a shell reports a process ended by the signal
     }
     if (stop_now) {
       if (!opt.quiet) std::fprintf(stderr, "stopped after %lld steps as asked; continue with --restart\n",

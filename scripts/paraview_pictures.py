@@ -58,6 +58,14 @@ def frame_camera(view, source, size):
     view.CameraParallelScale = 0.55 * max(y1 - y0, (x1 - x0) / aspect)
 
 
+def save(view, framed, png, size=(1800, 700)):
+    """Frames the view on framed and writes png."""
+    frame_camera(view, framed, size)
+    SaveScreenshot(png, view, ImageResolution=list(size))
+    print("wrote", png)
+    return True
+
+
 def force_chains(out, directory, png):
     grains_file, contacts_file = last_frame(directory)
     if not grains_file or not contacts_file:
@@ -89,10 +97,7 @@ def force_chains(out, directory, png):
     t = Show(tubes, view)
     t.ColorArrayName = [None, ""]
     t.AmbientColor = t.DiffuseColor = [0.1, 0.1, 0.1]
-    frame_camera(view, grains, [1800, 700])
-    SaveScreenshot(png, view, ImageResolution=[1800, 700])
-    print("wrote", png)
-    return True
+    return save(view, grains, png)
 
 
 def stress_field(out, png):
@@ -121,10 +126,7 @@ def stress_field(out, png):
     a = Show(arrows, view)
     a.ColorArrayName = [None, ""]
     a.AmbientColor = a.DiffuseColor = [0.1, 0.1, 0.1]
-    frame_camera(view, mesh, [1800, 700])
-    SaveScreenshot(png, view, ImageResolution=[1800, 700])
-    print("wrote", png)
-    return True
+    return save(view, mesh, png)
 
 
 def main():

@@ -18,18 +18,17 @@ def _toml(text):
     return tomllib.loads(text)
 
 
-class _Lazy:
-    """Runs the loader on first use and keeps the result."""
-
-    def __init__(self, loader):
-        self.loader = loader
-        self.done = False
-        self.value = None
+def _cached(loader):
+    """A read-only property that runs loader(self) on first use and keeps the result."""
+    name = "_cached_" + loader.__name__
 
     def get(self):
-        if not self.done:
-            self.value, self.done = self.loader(), True
-        return self.value
+        if name not in self.__dict__:
+            self.__dict__[name] = loader(self)
+        return self.__dict__[name]
+
+    get.__doc__ = loader.__doc__
+    return property(get)
 
 
 class Member:
@@ -38,16 +37,14 @@ class Member:
     def __init__(self, directory, seed):
         self.seed = int(seed)
         self.path = directory
-        self._report = _Lazy(lambda: _read_json(os.path.join(directory, "report.json")))
-        self._dem = _Lazy(lambda: _if_exists(os.path.join(directory, "dem.h5"), DemFile))
 
-    @property
+    @_cached
     def report(self):
-        return self._report.get()
+        return _read_json(os.path.join(self.path, "report.json"))
 
-    @property
+    @_cached
     def dem(self):
-        return self._dem.get()
+        return _if_exists(os.path.join(self.path, "dem.h5"), DemFile)
 
 
 class Run:
@@ -62,30 +59,29 @@ class Run:
         self.path = os.fspath(path)
         if not os.path.isdir(self.path):
             raise FileNotFoundError(f"{self.path}: no such run directory")
-        self._report = _Lazy(lambda: _read_json(self.file("report.json")))
-        self._dem = _Lazy(lambda: _if_exists(self.file("dem.h5"), DemFile))
-        self._fields = _Lazy(lambda: _if_exists(self.file("fields.h5"), Fields))
-        self._models = _Lazy(lambda: _if_exists(self.file("models.h5"), Models))
-        self._profiles = _Lazy(lambda: _read_profiles(self.file("profiles.csv")))
 
     def file(self, name):
         return os.path.join(self.path, name)
 
-    @property
+    @_cached
     def report(self):
-        return self._report.get()
+        return _read_json(self.file("report.json"))
 
-    @property
+    @_cached
     def dem(self):
-        return self._dem.get()
+        return _if_exists(self.file("dem.h5"), DemFile)
 
-    @property
+    @_cached
     def fields(self):
-        return self._fields.get()
+        return _if_exists(self.file("fields.h5"), Fields)
 
-    @property
+    @_cached
     def models(self):
-        return self._models.get()
+        return _if_exists(self.file("models.h5"), Models)
+
+    @_cached
+    def _profile_table(self):
+        return _read_profiles(self.file("profiles.csv"))
 
     @property
     def scene_text(self):
@@ -110,7 +106,7 @@ class Run:
     def profiles(self, source=None, quantity=None):
         """profiles.csv: with source and quantity, a dict y_over_h -> structured array of
         (x_m, value, stderr) sorted by x; without them, the list of (source, quantity) pairs."""
-        table = self._profiles.get()
+        table = self._profile_table
         if source is None:
             return sorted(table)
         cuts = table.get((source, quantity), {})

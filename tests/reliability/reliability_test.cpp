@@ -67,3 +67,22 @@ TEST_F(Reliability, AnEmptySceneSaysItPoursTheDefaultPile) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("has no [dem] table: pouring the default pile (500 grains"), std::string::npos) << r.output;
 }
+
+TEST_F(Reliability, AnInterruptedPourWritesACheckpointAndSaysHowToContinue) {
+  // SIGINT once the first checkpoint exists: exit 128 + SIGINT, a message naming --restart, and
+  // the restarted run ends with the unbroken run's dem.h5.
+  const std::string scene = write_scene("tiny.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("unbroken") + " -q -j 1").exit_code, 0);
+  const std::string out = path("out");
+  const auto r = run("bash -c '" + std::string(PILELAB_BINARY) + " dem " + scene + " -o " + out + " -j 1 & pid=$!; " +
+                         "while [ ! -e " + out + "/checkpoint.h5 ] && kill -0 $pid 2>/dev/null; do sleep 0.01; done; " +
+                         "kill -INT $pid; wait $pid'",
+                     "", /*prefix_binary=*/false);
+  if (std::filesystem::exists(out + "/dem.h5")) GTEST_SKIP() << "the pour ended before the signal came";
+  EXPECT_EQ(r.exit_code, 128 + 2) << r.output;
+  EXPECT_NE(r.output.find("interrupted by SIGINT"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--restart"), std::string::npos) << r.output;
+  ASSERT_EQ(run("dem " + scene + " -o " + out + " -q -j 1 --restart").exit_code, 0);
+  EXPECT_EQ(std::system(("cmp -s " + out + "/dem.h5 " + path("unbroken") + "/dem.h5").c_str()), 0)
+      << "the continued run differs from the unbroken one";
+}

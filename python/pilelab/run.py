@@ -113,6 +113,12 @@ class Run:
         return {h: np.array(sorted(rows), dtype=[("x_m", float), ("value", float), ("stderr", float)])
                 for h, rows in sorted(cuts.items())}
 
+    def profiles_frame(self):
+        """profiles.csv as a pandas DataFrame (columns source, quantity, y_over_h, x_m, value,
+        stderr); needs pandas (Debian's python3-pandas)."""
+        import pandas
+        return pandas.read_csv(self.file("profiles.csv"))
+
     def base_pressure(self, source="dem"):
         """sigma_yy / rho g h along the lowest cut: x [m], value, standard error (the profile the
         paper's Fig. 9A plots; compression positive)."""

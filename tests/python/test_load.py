@@ -116,5 +116,15 @@ class LoadTinyPipeline(unittest.TestCase):
         self.assertTrue(np.all(np.isfinite(v)))
 
 
+    def test_profiles_frame_when_pandas_is_there(self):
+        try:
+            import pandas  # noqa: F401
+        except ImportError:
+            self.skipTest("pandas is not installed")
+        frame = self.result.profiles_frame()
+        rows = sum(len(v) for pair in self.result.profiles() for v in self.result.profiles(*pair).values())
+        self.assertEqual(len(frame), rows)
+
+
 if __name__ == "__main__":
     unittest.main()

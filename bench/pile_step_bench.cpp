@@ -4,6 +4,12 @@
 // paper pile from scenes/paper-symmetric.toml); otherwise it builds a dense heap of 6500 paper
 // grains on a plate and lets it fall together for a while first (a minute), and with
 // PILELAB_BENCH_SAVE=path/to/heap.h5 it writes that heap there, to be loaded next time.
+//
+// BM_PourStep steps a pile while it is being poured (grains falling from the funnel, a flowing
+// surface), which costs more per grain than a settled pile: with PILELAB_BENCH_POUR=DIR it
+// restores DIR/checkpoint.h5 of the scene DIR/scene.toml (a member's checkpoint, e.g.
+// docs/studies/paper/checkpoints/symmetric/1) and runs the whole protocol step (world plus
+// inflow); without it the benchmark is skipped.
 // Threads: OMP_NUM_THREADS.
 #include <cstdlib>
 #include <map>
@@ -13,6 +19,9 @@
 #include <omp.h>
 
 #include "common/rng.h"
+#include "common/scene_reader.h"
+#include "dem/checkpoint.h"
+#include "dem/dem_scene.h"
 #include "dem/dem_file.h"
 #include "dem/grain_generator.h"
 #include "dem/snapshot.h"
@@ -103,6 +112,43 @@ void BM_PileStep(benchmark::State& state) {
   state.counters["share_gather_correct"] = (p.gather_correct - before.gather_correct) / total;
   state.SetLabel(scheme_name(scheme));
 }
+// The pour from a checkpoint: every call restarts from the same state.
+void BM_PourStep(benchmark::State& state) {
+  const char* dir = std::getenv("PILELAB_BENCH_POUR");
+  if (!dir) {
+    state.SkipWithError("set PILELAB_BENCH_POUR=DIR (DIR/scene.toml, DIR/checkpoint.h5)");
+    return;
+  }
+  const std::string scene_path = std::string(dir) + "/scene.toml";
+  SceneReader reader = SceneReader::from_file(scene_path);
+  PileProtocol protocol(read_dem_scene(reader), scene_path);
+  RunCounters counters;
+  read_checkpoint(std::string(dir) + "/checkpoint.h5", reader.text(), protocol, counters);
+  World& w = protocol.world();
+  const StepProfile before = w.profile();
+  double grain_steps = 0.0;
+  std::size_t contacts = 0, candidates = 0;
+  for (auto _ : state) {
+    protocol.step();
+    grain_steps += double(w.active_grains().size());
+    contacts += w.contact_count();
+    candidates += w.candidate_count();
+  }
+  state.counters["grains"] = grain_steps / double(state.iterations());
+  state.counters["threads"] = omp_get_max_threads();
+  state.counters["particle_steps_per_s"] = benchmark::Counter(grain_steps, benchmark::Counter::kIsRate);
+  state.counters["contacts_per_grain"] = double(contacts) / grain_steps;
+  state.counters["candidates_per_grain"] = double(candidates) / grain_steps;
+  const StepProfile& p = w.profile();
+  const double total = p.total() - before.total();
+  state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;
+  state.counters["share_broad"] = (p.broad_phase - before.broad_phase) / total;
+  state.counters["share_move"] = (p.move - before.move) / total;
+  state.counters["share_gather_correct"] = (p.gather_correct - before.gather_correct) / total;
+  state.SetLabel(scheme_name(protocol.scene().scheme));
+}
+BENCHMARK(BM_PourStep)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2000);
+
 // Arg: 0 Gear 5, 1 Verlet, 2 leapfrog. Rates per second of wall time (UseRealTime): with threads
 // the main thread's CPU time is not the time the step took.
 BENCHMARK(BM_PileStep)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -108,10 +108,12 @@ struct Samples {
   std::map<std::string, std::vector<std::vector<double>>> per_pile;
 };
 
-// The quantities a stress-strain fit needs, kept per pile in ensembles.
-const std::vector<std::string> fit_quantities = {"stress_change_xx", "stress_change_yy", "stress_change_xy",
-                                                 "strain_xx", "strain_yy", "strain_xy", "fabric_xx",
-                                                 "fabric_yy", "fabric_xy", "pressure"};
+// The quantities kept per pile in ensembles: what a stress-strain fit resamples over piles, and
+// what the comparison's jackknife re-averages (stresses, displacements, strains).
+const std::vector<std::string> pile_quantities = {"stress_change_xx", "stress_change_yy", "stress_change_xy",
+                                                  "strain_xx", "strain_yy", "strain_xy", "fabric_xx",
+                                                  "fabric_yy", "fabric_xy", "pressure", "stress_xx",
+                                                  "stress_yy", "stress_xy", "displacement_x", "displacement_y"};
 
 void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
                bool with_stderr) {
@@ -351,7 +353,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     std::vector<std::size_t> kept;  // indices into qs of the per-pile quantities
     if (keep_piles && piles.size() > 1)
       for (std::size_t q = 0; q < qs.size(); ++q)
-        if (std::find(fit_quantities.begin(), fit_quantities.end(), qs[q].name) != fit_quantities.end()) {
+        if (std::find(pile_quantities.begin(), pile_quantities.end(), qs[q].name) != pile_quantities.end()) {
           kept.push_back(q);
           out.per_pile[qs[q].name].assign(piles.size(), std::vector<double>(points.size(), NAN));
         }

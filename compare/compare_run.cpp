@@ -60,6 +60,10 @@ std::vector<std::size_t> thin(const std::vector<Vec2>& points, const std::vector
 // The fit's quantities of each pile of an ensemble (fields.h5 /piles/K/Q), or none.
 using PileValues = std::vector<std::map<std::string, std::vector<double>>>;
 
+// What a stress-strain fit samples at each point.
+const char* const fit_quantities[] = {"stress_change_xx", "stress_change_yy", "stress_change_xy", "strain_xx", "strain_yy",
+                                      "strain_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure"};
+
 PileValues read_pile_values(const std::string& fields_path) {
   PileValues piles;
   const H5File f = H5File::open_read(fields_path);
@@ -76,8 +80,7 @@ PileValues read_pile_values(const std::string& fields_path) {
 bool pile_mean_sample(const PileValues& piles, const std::vector<std::size_t>& chosen, std::size_t i,
                       const Vec2& point, FitSample& s) {
   std::map<std::string, double> mean;
-  for (const auto& [name, values] : piles.front()) {
-    (void)values;
+  for (const char* name : fit_quantities) {
     double sum = 0;
     int n = 0;
     for (std::size_t k : chosen) {
@@ -97,14 +100,12 @@ bool pile_mean_sample(const PileValues& piles, const std::vector<std::size_t>& c
 
 nlohmann::json fit_section(const PointFields& dem, const PileValues& piles, double spacing, int resamples, int folds,
                            unsigned seed, std::vector<FitSample>* samples_out, std::vector<FitResult>* fits_out) {
-  const char* needed[] = {"stress_change_xx", "stress_change_yy", "stress_change_xy", "strain_xx", "strain_yy",
-                          "strain_xy", "fabric_xx", "fabric_yy", "fabric_xy", "pressure"};
-  for (const char* q : needed)
+  for (const char* q : fit_quantities)
     if (!dem.has(q))
       throw InputError(dem.source + ": the fit needs the field '" + std::string(q) +
                        "' (run coarse with a `relaxed` snapshot for strains and stress changes)");
   std::vector<char> ok(dem.points.size(), 1);
-  for (const char* q : needed) ok = both(ok, dem.valid.at(q));
+  for (const char* q : fit_quantities) ok = both(ok, dem.valid.at(q));
   const std::vector<std::size_t> kept = thin(dem.points, ok, spacing);
   std::vector<FitSample> samples;
   for (std::size_t i : kept) {
@@ -342,6 +343,189 @@ nlohmann::json run_fit(const FitOptions& opt) {
   return section;
 }
 
+namespace {
+
+// --- The steps of the comparison -------------------------------------------------------------
+
+// The numbers report.json gives for one model against the DEM's fields (both on the DEM's
+// points): relative L2 differences of the stresses (whole pile and lower half), the mean angle
+// between the principal axes, and the differences of the displacements and strains of the
+// gravity change.
+nlohmann::json model_differences(const Triangulation& mesh, const PointFields& model, const PointFields& dem,
+                                 const Region& lower_half) {
+  nlohmann::json m = nlohmann::json::object();
+  for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
+    if (!model.has(c) || !dem.has(c)) continue;
+    m[std::string("relative_l2_") + c] = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c)).relative;
+    m[std::string("relative_l2_lower_half_") + c] =
+        l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c), lower_half).relative;
+  }
+  if (model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")) {
+    std::vector<double> angle(dem.points.size());
+    const std::vector<char> ok =
+        both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
+    for (std::size_t i = 0; i < angle.size(); ++i)
+      if (ok[i])
+        angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
+                                  compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
+    m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
+  }
+  m.update(displacement_and_strain_differences(mesh, model, dem));
+  return m;
+}
+
+// The FPA angle that best fits the DEM's stress axes: psi = deviation of the major axis from
+// the vertical, towards the axis of the pile (left: 90 - theta, right: theta - 90), averaged
+// over each flank's triangles (the side is the centroid's) with the linear interpolant.
+nlohmann::json fpa_angle_fit(const Triangulation& mesh, const PointFields& dem, double apex_x) {
+  const auto& th = dem.at("stress_orientation_deg");
+  const auto& ok = dem.valid.at("stress_orientation_deg");
+  double integral[2] = {0, 0}, area[2] = {0, 0};
+  for (const auto& t : mesh.triangles) {
+    if (!(ok[t[0]] && ok[t[1]] && ok[t[2]])) continue;
+    const Vec2 c = (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0;
+    if (c.x() == apex_x) continue;
+    const int side = c.x() < apex_x ? 0 : 1;
+    const double a = 0.5 * dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
+    double mean = 0;
+    for (int k : t) mean += (side == 0 ? 90.0 - th[k] : th[k] - 90.0) / 3.0;
+    integral[side] += a * mean;
+    area[side] += a;
+  }
+  const double left = area[0] > 0 ? integral[0] / area[0] : NAN;
+  const double right = area[1] > 0 ? integral[1] / area[1] : NAN;
+  return {{"psi_fit_left_deg", left}, {"psi_fit_right_deg", right}, {"psi_fit_deg", 0.5 * (left + right)}};
+}
+
+// The base-pressure dip of every source in profiles.csv: at the lowest cut, sigma_yy at the
+// axis over its maximum, and where the maximum lies (in half-widths from the axis).
+nlohmann::json base_pressure_dips(const std::vector<ProfileValue>& rows, double apex_x) {
+  std::map<std::string, std::vector<std::pair<double, double>>> base;  // source -> (x, sigma_yy) at lowest cut
+  std::map<std::string, double> lowest;
+  for (const auto& r : rows)
+    if (r.quantity == "sigma_yy") lowest[r.source] = std::min(lowest.count(r.source) ? lowest[r.source] : 1e300, r.y_over_h);
+  for (const auto& r : rows)
+    if (r.quantity == "sigma_yy" && r.y_over_h == lowest[r.source]) base[r.source].emplace_back(r.x_m, r.value);
+  nlohmann::json dips = nlohmann::json::object();
+  for (auto& [source, pts] : base) {
+    std::sort(pts.begin(), pts.end());
+    if (pts.size() < 3) continue;
+    const double x0 = pts.front().first, x1 = pts.back().first;
+    const double half_width = 0.5 * (x1 - x0);
+    auto best = std::max_element(pts.begin(), pts.end(), [](auto& a, auto& b) { return a.second < b.second; });
+    // sigma_yy at the axis, linearly interpolated.
+    double centre = pts.front().second;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+      if (pts[i].first <= apex_x && apex_x <= pts[i + 1].first) {
+        const double t = (apex_x - pts[i].first) / std::max(pts[i + 1].first - pts[i].first, 1e-300);
+        centre = (1 - t) * pts[i].second + t * pts[i + 1].second;
+      }
+    dips[source] = {{"y_over_h", lowest[source]},
+                    {"centre_over_max", best->second > 0 ? centre / best->second : 0.0},
+                    {"max", best->second},
+                    {"x_of_max_over_R", half_width > 0 ? (best->first - apex_x) / half_width : 0.0}};
+  }
+  return dips;
+}
+
+// The DEM's misalignment profiles along its cuts (from its orientation rows at the same points),
+// written back into profiles.csv in place of any earlier ones.
+void write_misalignment_profiles(const std::string& csv, const std::vector<ProfileValue>& rows,
+                                 const std::vector<std::pair<const char*, const char*>>& pairs) {
+  std::map<std::tuple<std::string, double, double>, double> orientation;
+  for (const auto& r : rows)
+    if (r.source == "dem" && r.quantity.size() > 16 && r.quantity.substr(r.quantity.size() - 16) == "_orientation_deg")
+      orientation[{r.quantity.substr(0, r.quantity.size() - 16), r.y_over_h, r.x_m}] = r.value;
+  std::vector<ProfileValue> extra;
+  for (const auto& r : rows) {
+    if (r.source == "dem" && r.quantity.rfind("misalignment_", 0) != 0) extra.push_back(r);
+    if (r.source != "dem" || r.quantity != "stress_orientation_deg") continue;
+    for (const auto& [a, b] : pairs) {
+      const auto ia = orientation.find({a, r.y_over_h, r.x_m}), ib = orientation.find({b, r.y_over_h, r.x_m});
+      if (ia == orientation.end() || ib == orientation.end()) continue;
+      extra.push_back({"dem", std::string("misalignment_") + a + "_" + b + "_deg", r.y_over_h, r.x_m,
+                       axis_angle_deg(ia->second, ib->second), 0.0, false});
+    }
+  }
+  write_profile_values(csv, extra);
+}
+
+// --- Standard errors over the ensemble's piles --------------------------------------------------
+//
+// The comparison's numbers are functions of the ensemble-mean DEM fields, and most are not
+// linear in them (a relative L2 norm, an axis angle), so their standard errors are taken by the
+// jackknife over piles: theta_(k) is the number computed with pile k left out of the mean, and
+//     SE^2 = (n - 1) / n  sum_k (theta_(k) - mean_k theta_(k))^2,
+// which for a mean is exactly the textbook s / sqrt(n). The model is held fixed: the errors say
+// how far the member-to-member scatter of the DEM moves each number, not how the model would
+// move with the ensemble's angles.
+
+// The fields the jackknife re-averages, as coarse/ keeps them per pile. The stress orientation
+// is derived again from the re-averaged tensor, as coarse/ derives the mean's.
+const char* const pile_fields[] = {"stress_xx", "stress_yy", "stress_xy", "displacement_x", "displacement_y",
+                                   "strain_xx", "strain_yy", "strain_xy"};
+
+// The piles of fields.h5 that carry every field of the DEM's that the jackknife re-averages
+// (older files kept only the fit's quantities per pile: no errors then).
+bool piles_carry_compared_fields(const PointFields& dem, const PileValues& piles) {
+  if (piles.size() < 2) return false;
+  for (const auto& pile : piles)
+    for (const char* q : pile_fields)
+      if (dem.has(q) && !pile.count(q)) return false;
+  return true;
+}
+
+// The DEM's fields with pile `left_out` taken out of the ensemble mean.
+PointFields without_pile(const PointFields& dem, const PileValues& piles, std::size_t left_out) {
+  PointFields out = dem;
+  const std::size_t n = dem.points.size();
+  for (const char* q : pile_fields) {
+    if (!dem.has(q)) continue;
+    std::vector<double> mean(n, 0.0);
+    std::vector<char> ok(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = 0;
+      int count = 0;
+      for (std::size_t k = 0; k < piles.size(); ++k) {
+        const double v = piles[k].at(q)[i];
+        if (k != left_out && std::isfinite(v)) sum += v, ++count;
+      }
+      if (count > 0) mean[i] = sum / count, ok[i] = 1;
+    }
+    out.set(q, std::move(mean), std::move(ok));
+  }
+  if (dem.has("stress_orientation_deg") && dem.has("stress_xx") && dem.has("stress_yy") && dem.has("stress_xy")) {
+    std::vector<double> angle(n, 0.0);
+    const std::vector<char> ok = both(both(out.valid.at("stress_xx"), out.valid.at("stress_yy")), out.valid.at("stress_xy"));
+    for (std::size_t i = 0; i < n; ++i)
+      if (ok[i]) angle[i] = compressive_axis_deg(out.at("stress_xx")[i], out.at("stress_yy")[i], out.at("stress_xy")[i]);
+    out.set("stress_orientation_deg", std::move(angle), ok);
+  }
+  return out;
+}
+
+// Adds "<key>_stderr" next to every number of `estimate` that each replicate has as a finite
+// number, from the jackknife replicates theta_(k).
+void add_jackknife_errors(nlohmann::json& estimate, const std::vector<nlohmann::json>& replicates) {
+  const double n = static_cast<double>(replicates.size());
+  nlohmann::json errors = nlohmann::json::object();
+  for (const auto& [key, value] : estimate.items()) {
+    if (!value.is_number()) continue;
+    std::vector<double> theta;
+    for (const auto& r : replicates)
+      if (r.contains(key) && r[key].is_number() && std::isfinite(r[key].get<double>())) theta.push_back(r[key].get<double>());
+    if (theta.size() != replicates.size()) continue;
+    double mean = 0;
+    for (double t : theta) mean += t / n;
+    double ss = 0;
+    for (double t : theta) ss += (t - mean) * (t - mean);
+    errors[key + "_stderr"] = std::sqrt((n - 1) / n * ss);
+  }
+  estimate.update(errors);
+}
+
+}  // namespace
+
 nlohmann::json run_compare(const CompareRunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   SceneReader reader = SceneReader::from_file(opt.scene_path);
@@ -350,8 +534,6 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   reader.reject_unknown({"compare"}, scene_tables());
   const std::string& fields_path = settings.fields_path;
   const std::string& models_path = settings.models_path;
-  const int resamples = settings.fit_resamples, folds = settings.fit_folds;
-  const unsigned seed = settings.fit_seed;
 
   Triangulation mesh;
   bool on_nodes = true;
@@ -361,6 +543,11 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   H5File fields_file = H5File::open_read(fields_path);
   const double height = fields_file.attribute_double("/", "height_m");
   const double spacing = fit_sample_spacing(fields_path, settings.fit_sample_spacing_m);
+  const PileValues piles = read_pile_values(fields_path);
+  // An ensemble: the DEM's fields with each pile left out in turn, for the jackknife.
+  std::vector<PointFields> jackknife;
+  if (piles_carry_compared_fields(dem, piles))
+    for (std::size_t k = 0; k < piles.size(); ++k) jackknife.push_back(without_pile(dem, piles, k));
   // The FPA's repose angle: the scene's, else the one the DEM measured (handed over by
   // `pilelab run`, or read from the DEM's report section); without any, no FPA angle.
   double repose_deg = settings.repose_angle_deg;
@@ -374,6 +561,10 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   const Region lower_half = [&](const Vec2& c) { return c.y() < 0.5 * height; };
 
   nlohmann::json section = {{"fields_file", fields_path}, {"height_m", height}, {"apex_x_m", apex_x}};
+  section["standard_errors"] =
+      jackknife.empty() ? nlohmann::json("none (a single pile)")
+                        : nlohmann::json("jackknife over " + std::to_string(jackknife.size()) +
+                                         " piles, the model held fixed: KEY_stderr next to each KEY");
   std::vector<VtuField> vtu;
   auto add_field = [&](const std::string& name, const std::vector<double>& v, const std::vector<char>& ok) {
     VtuField f{name, v};
@@ -403,7 +594,7 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   if (dem.has("stress_yy")) add_mask("dem_has_data", dem.valid.at("stress_yy"));
   add_vector("dem_displacement", dem);
 
-  // DEM against each model.
+  // 1. Each model against the DEM: its numbers with their errors, and its fields for ParaView.
   nlohmann::json models = nlohmann::json::object();
   section["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
@@ -416,12 +607,15 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
       nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; })}};
       if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
       if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
+      nlohmann::json differences = model_differences(mesh, model, dem, lower_half);
+      if (!jackknife.empty()) {
+        std::vector<nlohmann::json> replicates;
+        for (const PointFields& d : jackknife) replicates.push_back(model_differences(mesh, model, d, lower_half));
+        add_jackknife_errors(differences, replicates);
+      }
+      m.update(differences);
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
         if (!model.has(c) || !dem.has(c)) continue;
-        const L2Difference all = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c));
-        const L2Difference low = l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c), lower_half);
-        m[std::string("relative_l2_") + c] = all.relative;
-        m[std::string("relative_l2_lower_half_") + c] = low.relative;
         add_field(name + "_" + c, model.at(c), model.valid.at(c));
         std::vector<double> d(dem.points.size());
         for (std::size_t i = 0; i < d.size(); ++i) d[i] = model.at(c)[i] - dem.at(c)[i];
@@ -429,15 +623,14 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
       }
       if (model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")) {
         std::vector<double> angle(dem.points.size());
-        std::vector<char> ok = both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
+        const std::vector<char> ok =
+            both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
         for (std::size_t i = 0; i < angle.size(); ++i)
           if (ok[i])
             angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
                                       compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
-        m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
         add_field(name + "_axis_angle_to_dem_deg", angle, ok);
       }
-      m.update(displacement_and_strain_differences(mesh, model, dem));
       if (model.has("displacement_x") && dem.has("displacement_x")) {
         add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
         add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
@@ -450,9 +643,9 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   section["models_file"] = std::filesystem::exists(models_path) ? models_path : "";
   section["models"] = models;
 
-  // Within the DEM: misalignment of stress, strain and fabric axes (the paper's Fig. 15).
+  // 2. Within the DEM: misalignment of stress, strain and fabric axes (the paper's Fig. 15).
   nlohmann::json misalignment = nlohmann::json::object();
-  const std::pair<const char*, const char*> pairs[] = {{"stress", "strain"}, {"stress", "fabric"}, {"strain", "fabric"}};
+  const std::vector<std::pair<const char*, const char*>> pairs = {{"stress", "strain"}, {"stress", "fabric"}, {"strain", "fabric"}};
   for (const auto& [a, b] : pairs) {
     const std::string qa = std::string(a) + "_orientation_deg", qb = std::string(b) + "_orientation_deg";
     if (!dem.has(qa) || !dem.has(qb)) continue;
@@ -466,92 +659,38 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   }
   section["dem_misalignment"] = misalignment;
 
-  // Profiles: base dip per source, and the misalignment along the DEM's cuts.
+  // 3. Profiles: the base dip of every source, and the misalignment along the DEM's cuts.
   const std::string csv = in_dir(opt.out_dir, "profiles.csv");
   if (std::filesystem::exists(csv)) {
     const auto rows = read_profile_values(csv);
-    std::map<std::string, std::vector<std::pair<double, double>>> base;  // source -> (x, sigma_yy) at lowest cut
-    std::map<std::string, double> lowest;
-    for (const auto& r : rows)
-      if (r.quantity == "sigma_yy") lowest[r.source] = std::min(lowest.count(r.source) ? lowest[r.source] : 1e300, r.y_over_h);
-    for (const auto& r : rows)
-      if (r.quantity == "sigma_yy" && r.y_over_h == lowest[r.source]) base[r.source].emplace_back(r.x_m, r.value);
-    nlohmann::json dips = nlohmann::json::object();
-    for (auto& [source, pts] : base) {
-      std::sort(pts.begin(), pts.end());
-      if (pts.size() < 3) continue;
-      const double x0 = pts.front().first, x1 = pts.back().first;
-      const double half_width = 0.5 * (x1 - x0);
-      auto best = std::max_element(pts.begin(), pts.end(), [](auto& a, auto& b) { return a.second < b.second; });
-      // sigma_yy at the axis, linearly interpolated.
-      double centre = pts.front().second;
-      for (std::size_t i = 0; i + 1 < pts.size(); ++i)
-        if (pts[i].first <= apex_x && apex_x <= pts[i + 1].first) {
-          const double t = (apex_x - pts[i].first) / std::max(pts[i + 1].first - pts[i].first, 1e-300);
-          centre = (1 - t) * pts[i].second + t * pts[i + 1].second;
-        }
-      dips[source] = {{"y_over_h", lowest[source]},
-                      {"centre_over_max", best->second > 0 ? centre / best->second : 0.0},
-                      {"max", best->second},
-                      {"x_of_max_over_R", half_width > 0 ? (best->first - apex_x) / half_width : 0.0}};
-    }
-    section["base_pressure_dip"] = dips;
-    // Misalignment profiles from the DEM's orientation rows at the same points.
-    std::map<std::tuple<std::string, double, double>, double> orientation;
-    for (const auto& r : rows)
-      if (r.source == "dem" && r.quantity.size() > 16 && r.quantity.substr(r.quantity.size() - 16) == "_orientation_deg")
-        orientation[{r.quantity.substr(0, r.quantity.size() - 16), r.y_over_h, r.x_m}] = r.value;
-    std::vector<ProfileValue> extra;
-    for (const auto& r : rows) {
-      if (r.source == "dem" && r.quantity.rfind("misalignment_", 0) != 0) extra.push_back(r);
-      if (r.source != "dem" || r.quantity != "stress_orientation_deg") continue;
-      for (const auto& [a, b] : pairs) {
-        const auto ia = orientation.find({a, r.y_over_h, r.x_m}), ib = orientation.find({b, r.y_over_h, r.x_m});
-        if (ia == orientation.end() || ib == orientation.end()) continue;
-        extra.push_back({"dem", std::string("misalignment_") + a + "_" + b + "_deg", r.y_over_h, r.x_m,
-                         axis_angle_deg(ia->second, ib->second), 0.0, false});
-      }
-    }
-    write_profile_values(csv, extra);
+    section["base_pressure_dip"] = base_pressure_dips(rows, apex_x);
+    write_misalignment_profiles(csv, rows, pairs);
   }
 
-  // The FPA angle that best fits the DEM's stress axes: psi = deviation of the major axis from
-  // the vertical, towards the axis of the pile (left: 90 - theta, right: theta - 90).
+  // 4. The FPA angle that best fits the DEM's stress axes, with its error over the piles.
   if (dem.has("stress_orientation_deg")) {
-    // Per triangle (the side is the centroid's), the linear interpolant of the deviation.
-    const auto& th = dem.at("stress_orientation_deg");
-    const auto& ok = dem.valid.at("stress_orientation_deg");
-    double integral[2] = {0, 0}, area[2] = {0, 0};
-    for (const auto& t : mesh.triangles) {
-      if (!(ok[t[0]] && ok[t[1]] && ok[t[2]])) continue;
-      const Vec2 c = (mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0;
-      if (c.x() == apex_x) continue;
-      const int side = c.x() < apex_x ? 0 : 1;
-      const double a = 0.5 * dem::cross(mesh.nodes[t[1]] - mesh.nodes[t[0]], mesh.nodes[t[2]] - mesh.nodes[t[0]]);
-      double mean = 0;
-      for (int k : t) mean += (side == 0 ? 90.0 - th[k] : th[k] - 90.0) / 3.0;
-      integral[side] += a * mean;
-      area[side] += a;
+    nlohmann::json fpa = fpa_angle_fit(mesh, dem, apex_x);
+    if (!jackknife.empty()) {
+      std::vector<nlohmann::json> replicates;
+      for (const PointFields& d : jackknife) replicates.push_back(fpa_angle_fit(mesh, d, apex_x));
+      add_jackknife_errors(fpa, replicates);
     }
-    const double left = area[0] > 0 ? integral[0] / area[0] : NAN;
-    const double right = area[1] > 0 ? integral[1] / area[1] : NAN;
-    section["fpa_angle"] = {{"psi_fit_left_deg", left},
-                            {"psi_fit_right_deg", right},
-                            {"psi_fit_deg", 0.5 * (left + right)},
-                            {"repose_angle_deg", repose_deg},
-                            {"psi_fpa_deg", repose_deg > 0 ? 45.0 - 0.5 * repose_deg : 0.0}};
+    fpa["repose_angle_deg"] = repose_deg;
+    fpa["psi_fpa_deg"] = repose_deg > 0 ? 45.0 - 0.5 * repose_deg : 0.0;
+    section["fpa_angle"] = fpa;
   }
 
-  // Stress-strain fits, when the DEM has strains.
+  // 5. Stress-strain fits, when the DEM has strains.
   if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
     std::vector<FitSample> samples;
     std::vector<FitResult> fits;
-    const nlohmann::json fit =
-        fit_section(dem, read_pile_values(fields_path), spacing, resamples, folds, seed, &samples, &fits);
+    const nlohmann::json fit = fit_section(dem, piles, spacing, settings.fit_resamples, settings.fit_folds,
+                                           settings.fit_seed, &samples, &fits);
     write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
     write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
   }
 
+  // 6. Everything side by side for ParaView, and the report.
   std::vector<std::array<double, 2>> nodes;
   for (const auto& p : mesh.nodes) nodes.push_back({p.x(), p.y()});
   write_triangle_vtu(in_dir(opt.out_dir, "compare.vtu"), nodes, mesh.triangles, vtu);

@@ -322,3 +322,60 @@ TEST(CompareRun, DamagedMeshInFieldsFileIsNamed) {
   }
   std::filesystem::remove_all(dir);
 }
+
+// An ensemble whose piles' stresses are the model's times (1 + e_k): with pile k left out the
+// mean is the model's times (1 + e_(k)), e_(k) the mean of the other e, so the relative L2
+// difference is |e_(k)| / (1 + e_(k)) exactly, and its jackknife standard error follows from
+// the e alone. The axes agree in every pile, so the angle's error is zero.
+TEST(CompareRun, EnsembleDifferencesCarryTheirJackknifeErrors) {
+  const std::string dir = temp_dir("pilelab_compare_jackknife");
+  const Synthetic model = elastic_field(3e6, 1e6);
+  const std::vector<double> e = {0.1, -0.05, 0.2, 0.02};
+  const auto scaled = [&](double factor) {
+    Synthetic s = model;
+    for (const char* q : {"stress_xx", "stress_yy", "stress_xy"})
+      for (double& v : s.fields[q]) v *= factor;
+    return s;
+  };
+  std::vector<Synthetic> piles;
+  double e_mean = 0;
+  for (double ek : e) piles.push_back(scaled(1 + ek)), e_mean += ek / e.size();
+  std::vector<const Synthetic*> pile_pointers;
+  for (const Synthetic& p : piles) pile_pointers.push_back(&p);
+  write_fields(dir + "/fields.h5", scaled(1 + e_mean), pile_pointers);
+  write_models(dir + "/models.h5", model, 1.0, 1.0);
+  const auto c = run_compare_in(dir);
+  const auto& same = c["models"]["same"];
+
+  const double n = e.size();
+  std::vector<double> theta;
+  for (std::size_t k = 0; k < e.size(); ++k) {
+    const double left_out = (e_mean * n - e[k]) / (n - 1);
+    theta.push_back(std::abs(left_out) / (1 + left_out));
+  }
+  double theta_mean = 0, ss = 0;
+  for (double t : theta) theta_mean += t / n;
+  for (double t : theta) ss += (t - theta_mean) * (t - theta_mean);
+  const double expected = std::sqrt((n - 1) / n * ss);
+  ASSERT_GT(expected, 1e-3);
+  for (const char* q : {"relative_l2_stress_yy", "relative_l2_stress_xx", "relative_l2_lower_half_stress_yy"}) {
+    EXPECT_NEAR(same[q].get<double>(), e_mean / (1 + e_mean), 1e-12) << q;
+    ASSERT_TRUE(same.contains(std::string(q) + "_stderr")) << same.dump(1);
+    EXPECT_NEAR(same[std::string(q) + "_stderr"].get<double>(), expected, 1e-12) << q;
+  }
+  EXPECT_NEAR(same["principal_axis_angle_mean_deg_stderr"].get<double>(), 0.0, 1e-9);
+  EXPECT_NEAR(same["relative_l2_displacement_stderr"].get<double>(), 0.0, 1e-14);
+  EXPECT_NEAR(c["fpa_angle"]["psi_fit_right_deg_stderr"].get<double>(), 0.0, 1e-9);  // the apex is a corner: one flank
+  std::filesystem::remove_all(dir);
+}
+
+// A single pile has no spread to resample: no errors are claimed.
+TEST(CompareRun, SinglePileClaimsNoErrors) {
+  const std::string dir = temp_dir("pilelab_compare_single");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 1.0, 1.0);
+  const auto c = run_compare_in(dir);
+  EXPECT_FALSE(c["models"]["same"].contains("relative_l2_stress_yy_stderr"));
+  std::filesystem::remove_all(dir);
+}

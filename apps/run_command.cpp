@@ -310,6 +310,14 @@ void run_pipeline(const RunOptions& opt) {
     member_files = member_dem_files(ensemble, opt.out_dir);
   }
 
+  // The pile as the DEM measured it (one pile, or the members' means), read once the pour is
+  // done, by the first later stage that needs it, and handed to every later stage.
+  std::optional<std::optional<mesh::Wedge>> measured;
+  const auto pile_measured = [&]() -> const std::optional<mesh::Wedge>& {
+    if (!measured) measured = measured_pile(opt.out_dir, ensemble);
+    return *measured;
+  };
+
   // Each stage: its tables, its inputs, its outputs, whether every rank takes part, its action.
   std::vector<Stage> stages;
   if (ensemble.empty()) {
@@ -341,7 +349,7 @@ void run_pipeline(const RunOptions& opt) {
                       // An ensemble's mesh: the wedge of the members' mean flanks and height, or
                       // (kind = "dem_outline") their mean outline.
                       mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, member_files};
-                      if (!ensemble.empty()) o.measured_pile = measured_pile(opt.out_dir, ensemble);
+                      if (!ensemble.empty()) o.measured_pile = pile_measured();
                       mesh::run_mesh(o);
                     }});
   stages.push_back({"coarse", {"coarse"}, join(piles, {"pile.msh"}),
@@ -354,8 +362,7 @@ void run_pipeline(const RunOptions& opt) {
                     {"models.h5"}, true, [&] {
                       MpiWorld::get();  // MPI and PETSc, for this and any later solve
                       on_root(world, [&] {
-                        solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")),
-                                    measured_pile(opt.out_dir, ensemble));
+                        solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")), pile_measured());
                       });
                       continuum::SolveOptions o;
                       o.scene_path = out("solve_scene.toml");
@@ -368,7 +375,7 @@ void run_pipeline(const RunOptions& opt) {
                     join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, true, [&] {
                       std::string loop_scene;
                       on_root(world, [&] {
-                        const auto pile = measured_pile(opt.out_dir, ensemble);
+                        const auto& pile = pile_measured();
                         compare::CompareRunOptions o{opt.scene_path, opt.out_dir, std::nullopt};
                         if (pile) o.measured_repose_angle_deg = 0.5 * (pile->left_angle_deg + pile->right_angle_deg);
                         compare::run_compare(o);

@@ -217,23 +217,28 @@ void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool 
 
 }  // namespace
 
-nlohmann::json run_coarse(const CoarseRunOptions& opt) {
-  const auto start = Clock::now();
-  SceneReader reader = SceneReader::from_file(opt.scene_path);
-  CoarseSettings settings =
-      read_coarse_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
-  reader.reject_unknown({"coarse"}, scene_tables());
-  if (!opt.dem_files.empty() && !reader.has("coarse.dem_files")) settings.dem_files = opt.dem_files;
-  prepare_output_directory(opt.out_dir);
+namespace {
 
-  const mesh::TriangleMesh mesh = mesh::read_triangle_mesh(settings.mesh_file);
-  const Domain domain = domain_of(mesh);
-  const double area = mesh::mesh_area(mesh);
+// --- The steps of the coarse-graining ---------------------------------------------------------
 
-  // The piles.
+// The piles to average (one, or an ensemble's members), read at the averaged snapshot and, where
+// present, the later one for strains; with what the sizes and scales below are derived from.
+struct PileSet {
   std::vector<Pile> piles;
   int piles_with_strains = 0;
-  double gravity_change = 0.0;  // g(strain_to) / g(snapshot) - 1, of the first pile with both
+  double gravity_change = 0.0;   ///< g(strain_to) / g(snapshot) - 1, of the first pile with both
+  double mean_height = 0.0;      ///< [m]
+  double gravity = 0.0;          ///< [m/s^2]
+  double bulk_fraction = 0.0;    ///< grain area over pile (mesh) area
+  double rho_bulk = 0.0;         ///< mean grain mass over mesh area [kg/m^2]
+  double grain_size_area = 0.0;  ///< mean area of a grain [m^2]
+  double diameter() const { return 2 * std::sqrt(grain_size_area / M_PI); }
+  /// The RVE radius that holds `count` grains on average.
+  double radius_for(double count) const { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); }
+};
+
+PileSet read_piles(const CoarseSettings& settings, double mesh_area) {
+  PileSet set;
   for (const std::string& path : settings.dem_files) {
     Pile pile;
     pile.path = path;
@@ -246,121 +251,73 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
                        "' (coarse.snapshot) has no grains; coarse-graining needs a poured pile");
     if (file.has_snapshot(settings.strain_to)) {
       pile.later = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.strain_to)));
-      if (piles_with_strains++ == 0)
-        gravity_change = pile.later->gravity.norm() / pile.packing->gravity.norm() - 1.0;
+      if (set.piles_with_strains++ == 0)
+        set.gravity_change = pile.later->gravity.norm() / pile.packing->gravity.norm() - 1.0;
     }
     for (const Grain& g : pile.packing->grains) {
       pile.height = std::max(pile.height, top_of(g));
       pile.grain_area += g.area;
       pile.mass += g.mass;
     }
-    piles.push_back(std::move(pile));
+    set.piles.push_back(std::move(pile));
   }
-  double mean_height = 0, mean_mass = 0, mean_grain_area = 0, grains = 0;
-  for (const Pile& p : piles) {
-    mean_height += p.height / piles.size();
-    mean_mass += p.mass / piles.size();
-    mean_grain_area += p.grain_area / piles.size();
-    grains += static_cast<double>(p.packing->grains.size()) / piles.size();
+  double mean_mass = 0, mean_grain_area = 0, grains = 0;
+  const double n = static_cast<double>(set.piles.size());
+  for (const Pile& p : set.piles) {
+    set.mean_height += p.height / n;
+    mean_mass += p.mass / n;
+    mean_grain_area += p.grain_area / n;
+    grains += static_cast<double>(p.packing->grains.size()) / n;
   }
-  const double gravity = piles.front().packing->gravity.norm();
-  const double bulk_fraction = mean_grain_area / area;  // grain area over pile area
-  const double rho_bulk = mean_mass / area;              // [kg/m^2]
-  const double grain_size_area = mean_grain_area / grains;
+  set.gravity = set.piles.front().packing->gravity.norm();
+  set.bulk_fraction = mean_grain_area / mesh_area;
+  set.rho_bulk = mean_mass / mesh_area;
+  set.grain_size_area = mean_grain_area / grains;
+  return set;
+}
 
-  // The averaging window.
-  for (Pile& p : piles) {
-    p.rve = std::make_unique<RveAverager>(*p.packing, domain, settings.clip_volume);
-    if (p.later) {
-      p.rve->set_displacements(*p.later);
-      p.rve_later = std::make_unique<RveAverager>(*p.later, domain, settings.clip_volume);
-    }
-  }
-  const double diameter = 2 * std::sqrt(grain_size_area / M_PI);
-  // The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
-  // when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
-  // (pile size / w)^2 cells. Checked here, the first place d is known: an explicit width before
-  // the RVE study, the default (the RVE radius) once the study has chosen it.
-  auto check_kernel_width = [&](double w, const std::string& origin) {
-    if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
-    std::ostringstream m;
-    m << opt.scene_path << ": coarse.kernel_width_m" << origin << " is " << w
-      << " m, but the kernel averages need a width of at least the mean grain diameter of "
-      << (settings.dem_files.size() > 1 ? "the piles in coarse.dem_files" : settings.dem_files.front())
-      << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
-      << " m, or 0 for the RVE radius";
-    throw InputError(m.str());
-  };
-  if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "");
-  auto radius_for = [&](double count) { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); };
-
-  // RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count.
-  std::vector<Vec2> study_points;
+// The points of the RVE-size study: the scene's, else three at a quarter of the height (on the
+// axis through the apex and half-way to either flank).
+std::vector<Vec2> rve_study_points(const CoarseSettings& settings, const mesh::TriangleMesh& mesh, const Domain& domain,
+                                   double height) {
+  std::vector<Vec2> points;
   for (std::size_t i = 0; i < settings.study_x_m.size(); ++i)
-    study_points.emplace_back(settings.study_x_m[i], settings.study_y_over_h[i] * mean_height);
-  if (study_points.empty()) {
-    const double y = 0.25 * mean_height;
-    const auto [lo, hi] = x_range_at(domain, y);
-    double axis = 0.5 * (lo + hi), top = -INFINITY;  // the vertical through the apex
-    for (const Vec2& n : mesh.nodes)
-      if (n.y() > top) top = n.y(), axis = n.x();
-    study_points = {{axis, y}, {0.5 * (lo + axis), y}, {0.5 * (axis + hi), y}};
-  }
-  RveStudySettings study_settings;
-  study_settings.first_radius_m = 0.75 * diameter;
-  study_settings.max_grain_count = settings.study_max_grain_count;
-  study_settings.max_radius_m = 4 * mean_height;
-  study_settings.tolerance = settings.study_tolerance;
-  const RveStudy study = rve_size_study(*piles.front().rve, study_points, study_settings);
-  const double chosen_count = study.chosen_grain_count;
-  const nlohmann::json& study_json = study.points;
-  write_text_atomically((std::filesystem::path(opt.out_dir) / "rve_study.csv").string(), study.csv);
+    points.emplace_back(settings.study_x_m[i], settings.study_y_over_h[i] * height);
+  if (!points.empty()) return points;
+  const double y = 0.25 * height;
+  const auto [lo, hi] = x_range_at(domain, y);
+  double axis = 0.5 * (lo + hi), top = -INFINITY;  // the vertical through the apex
+  for (const Vec2& n : mesh.nodes)
+    if (n.y() > top) top = n.y(), axis = n.x();
+  return {{axis, y}, {0.5 * (lo + axis), y}, {0.5 * (axis + hi), y}};
+}
 
-  const double grain_count_target = settings.rve_grain_count > 0 ? settings.rve_grain_count : chosen_count;
-  const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : radius_for(grain_count_target);
-  // Default kernel width: the RVE radius, so that both windows average over as many grains.
-  const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
-  check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)");
-  if (settings.method != CoarseSettings::Method::rve)
-    for (Pile& p : piles) {
-      p.kernel = std::make_unique<KernelAverager>(
-          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width);
-      if (p.later) {
-        p.kernel->set_displacements(*p.later);
-        p.kernel_later = std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width);
-      }
-    }
-  // The fields at x, with the stress change to the later snapshot in the same window (the
-  // increment that goes with the strain).
-  auto sample = [&](const Pile& p, const Vec2& x) {
-    RveSample s = p.kernel ? p.kernel->average(x) : p.rve->average(x, radius);
-    if (s.has_data() && (p.kernel_later || p.rve_later)) {
-      const RveSample later = p.kernel ? p.kernel_later->average(x) : p.rve_later->average(x, radius);
-      if (later.has_data()) {
-        s.stress_change = later.stress - s.stress;
-        s.has_stress_change = true;
-      }
-    }
-    return s;
-  };
-  // Each quantity at each point: the value of the ensemble-mean sample (tensors averaged,
-  // then derived), and the standard error of the per-pile values (axes unwrapped to within
-  // 90 degrees of the mean before their spread is taken).
-  auto sample_all = [&](const std::vector<Vec2>& points, bool keep_piles) {
+// The fields of every pile at any point, averaged over the piles: RVE (paper eq. 12-19) or
+// kernel windows of one size, with the stress change to the later snapshot in the same window
+// (the increment that goes with the strain).
+class EnsembleSampler {
+ public:
+  EnsembleSampler(const std::vector<Pile>& piles, double rve_radius) : piles_(piles), radius_(rve_radius) {}
+
+  /// Each quantity at each point: the value of the ensemble-mean sample (tensors averaged,
+  /// then derived), and the standard error of the per-pile values (axes unwrapped to within
+  /// 90 degrees of the mean before their spread is taken); with keep_piles, an ensemble's
+  /// per-pile values of pile_quantities too.
+  Samples sample(const std::vector<Vec2>& points, bool keep_piles) const {
     const auto& qs = quantities();
     Samples out;
     out.stats.assign(qs.size(), std::vector<Stat>(points.size()));
     std::vector<std::size_t> kept;  // indices into qs of the per-pile quantities
-    if (keep_piles && piles.size() > 1)
+    if (keep_piles && piles_.size() > 1)
       for (std::size_t q = 0; q < qs.size(); ++q)
         if (std::find(pile_quantities.begin(), pile_quantities.end(), qs[q].name) != pile_quantities.end()) {
           kept.push_back(q);
-          out.per_pile[qs[q].name].assign(piles.size(), std::vector<double>(points.size(), NAN));
+          out.per_pile[qs[q].name].assign(piles_.size(), std::vector<double>(points.size(), NAN));
         }
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::size_t i = 0; i < points.size(); ++i) {
       std::vector<RveSample> per_pile;
-      for (const Pile& p : piles) per_pile.push_back(sample(p, points[i]));
+      for (const Pile& p : piles_) per_pile.push_back(sample_pile(p, points[i]));
       const RveSample mean = mean_sample(per_pile);
       for (std::size_t q : kept)
         for (std::size_t k = 0; k < per_pile.size(); ++k)
@@ -381,28 +338,37 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       }
     }
     return out;
-  };
+  }
 
-  // Fields on the mesh.
-  const bool on_nodes = settings.location == CoarseSettings::Location::nodes;
-  std::vector<Vec2> points;
-  if (on_nodes) points = mesh.nodes;
-  else
-    for (const auto& t : mesh.triangles) points.push_back((mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0);
-  const auto fields_start = Clock::now();
-  const Samples fields = sample_all(points, true);
-  const double fields_seconds = std::chrono::duration<double>(Clock::now() - fields_start).count();
+ private:
+  RveSample sample_pile(const Pile& p, const Vec2& x) const {
+    RveSample s = p.kernel ? p.kernel->average(x) : p.rve->average(x, radius_);
+    if (s.has_data() && (p.kernel_later || p.rve_later)) {
+      const RveSample later = p.kernel ? p.kernel_later->average(x) : p.rve_later->average(x, radius_);
+      if (later.has_data()) {
+        s.stress_change = later.stress - s.stress;
+        s.has_stress_change = true;
+      }
+    }
+    return s;
+  }
 
-  // Profiles along horizontal cuts, stresses over rho g h and compression positive.
+  const std::vector<Pile>& piles_;
+  double radius_;
+};
+
+// Profiles along horizontal cuts at the scene's heights, stresses over rho g h and compression
+// positive: the rows of profiles.csv (source "dem").
+std::vector<ProfileValue> profile_rows(const CoarseSettings& settings, const Domain& domain, const EnsembleSampler& sampler,
+                                       double height, double stress_scale) {
   std::vector<ProfileValue> rows;
-  const double stress_scale = rho_bulk * gravity * mean_height;
   for (double f : settings.profile_heights) {
-    const double y = f * mean_height;
+    const double y = f * height;
     auto [lo, hi] = x_range_at(domain, y);
     if (!(lo < hi)) continue;
     std::vector<Vec2> cut;
     for (double x : profile_points(lo, hi, settings.profile_points)) cut.emplace_back(x, y);
-    const Samples s = sample_all(cut, false);
+    const Samples s = sampler.sample(cut, false);
     const auto& qs = quantities();
     for (std::size_t q = 0; q < qs.size(); ++q) {
       const bool stress = qs[q].is_stress || qs[q].name == "pressure";
@@ -414,9 +380,12 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       }
     }
   }
-  write_profile_values((std::filesystem::path(opt.out_dir) / "profiles.csv").string(), rows);
+  return rows;
+}
 
-  // The virial identity (sum of grain stresses = gravity + wall terms - settling residual).
+// The virial identity of each pile (sum of grain stresses = gravity + wall terms - settling
+// residual): a check of the stresses that needs no mesh.
+nlohmann::json virial_identities(const std::vector<Pile>& piles) {
   nlohmann::json identity = nlohmann::json::array();
   for (const Pile& p : piles) {
     const VirialIdentity v = virial_identity(*p.packing);
@@ -430,60 +399,158 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
                          std::abs(v.grain_sum(1, 1) - v.wall(1, 1) - v.gravity(1, 1)) / std::abs(v.gravity(1, 1))},
                         {"relative_mismatch_with_residual", v.relative_mismatch_with_residual()}});
   }
+  return identity;
+}
 
-  // Madadi's g2 = tr<F> / (v C) (paper eq. 23), averaged over the field points with data.
+// Over the field points: how many have no data, the mean grain count of a window, and Madadi's
+// g2 = tr<F> / (v C) (paper eq. 23) averaged over the points with data.
+struct FieldSummary {
+  int points_without_data = 0;
+  double mean_grain_count = 0.0, fabric_g2 = 0.0;
+};
+FieldSummary summarise_fields(const Samples& fields) {
   const auto& qs = quantities();
   auto column = [&](const std::string& name) {
     return static_cast<std::size_t>(std::find_if(qs.begin(), qs.end(), [&](const Quantity& q) { return q.name == name; }) - qs.begin());
   };
   const std::size_t trace_q = column("fabric_trace"), nu_q = column("volume_fraction"), c_q = column("coordination");
-  int no_data = 0, g2_points = 0;
-  double mean_count = 0, g2 = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (fields.stats[1][i].n == 0) ++no_data;
-    mean_count += fields.stats[0][i].mean / points.size();
+  const std::size_t n = fields.stats[0].size();
+  FieldSummary out;
+  int g2_points = 0;
+  double g2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (fields.stats[1][i].n == 0) ++out.points_without_data;
+    out.mean_grain_count += fields.stats[0][i].mean / n;
     const double vc = fields.stats[nu_q][i].mean * fields.stats[c_q][i].mean;
     if (fields.stats[trace_q][i].n > 0 && vc > 0) g2 += fields.stats[trace_q][i].mean / vc, ++g2_points;
   }
+  out.fabric_g2 = g2_points ? g2 / g2_points : 0.0;
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json run_coarse(const CoarseRunOptions& opt) {
+  const auto start = Clock::now();
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  CoarseSettings settings =
+      read_coarse_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
+  reader.reject_unknown({"coarse"}, scene_tables());
+  if (!opt.dem_files.empty() && !reader.has("coarse.dem_files")) settings.dem_files = opt.dem_files;
+  prepare_output_directory(opt.out_dir);
+  const auto out = [&](const char* file) { return (std::filesystem::path(opt.out_dir) / file).string(); };
+
+  // 1. The mesh and the piles.
+  const mesh::TriangleMesh mesh = mesh::read_triangle_mesh(settings.mesh_file);
+  const Domain domain = domain_of(mesh);
+  PileSet set = read_piles(settings, mesh::mesh_area(mesh));
+  std::vector<Pile>& piles = set.piles;
+  for (Pile& p : piles) {
+    p.rve = std::make_unique<RveAverager>(*p.packing, domain, settings.clip_volume);
+    if (p.later) {
+      p.rve->set_displacements(*p.later);
+      p.rve_later = std::make_unique<RveAverager>(*p.later, domain, settings.clip_volume);
+    }
+  }
+  const double diameter = set.diameter();
+  // The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
+  // when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
+  // (pile size / w)^2 cells. Checked here, the first place d is known: an explicit width before
+  // the RVE study, the default (the RVE radius) once the study has chosen it.
+  auto check_kernel_width = [&](double w, const std::string& origin) {
+    if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
+    std::ostringstream m;
+    m << opt.scene_path << ": coarse.kernel_width_m" << origin << " is " << w
+      << " m, but the kernel averages need a width of at least the mean grain diameter of "
+      << (settings.dem_files.size() > 1 ? "the piles in coarse.dem_files" : settings.dem_files.front())
+      << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
+      << " m, or 0 for the RVE radius";
+    throw InputError(m.str());
+  };
+  if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "");
+
+  // 2. RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count;
+  // it chooses the window's size unless the scene sets it.
+  RveStudySettings study_settings;
+  study_settings.first_radius_m = 0.75 * diameter;
+  study_settings.max_grain_count = settings.study_max_grain_count;
+  study_settings.max_radius_m = 4 * set.mean_height;
+  study_settings.tolerance = settings.study_tolerance;
+  const RveStudy study =
+      rve_size_study(*piles.front().rve, rve_study_points(settings, mesh, domain, set.mean_height), study_settings);
+  const double chosen_count = study.chosen_grain_count;
+  write_text_atomically(out("rve_study.csv"), study.csv);
+  const double grain_count_target = settings.rve_grain_count > 0 ? settings.rve_grain_count : chosen_count;
+  const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : set.radius_for(grain_count_target);
+  // Default kernel width: the RVE radius, so that both windows average over as many grains.
+  const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
+  check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)");
+  if (settings.method != CoarseSettings::Method::rve)
+    for (Pile& p : piles) {
+      p.kernel = std::make_unique<KernelAverager>(
+          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width);
+      if (p.later) {
+        p.kernel->set_displacements(*p.later);
+        p.kernel_later = std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width);
+      }
+    }
+  const EnsembleSampler sampler(piles, radius);
+
+  // 3. The fields on the mesh (at its nodes or triangle centroids), averaged over the piles.
+  const bool on_nodes = settings.location == CoarseSettings::Location::nodes;
+  std::vector<Vec2> points;
+  if (on_nodes) points = mesh.nodes;
+  else
+    for (const auto& t : mesh.triangles) points.push_back((mesh.nodes[t[0]] + mesh.nodes[t[1]] + mesh.nodes[t[2]]) / 3.0);
+  const auto fields_start = Clock::now();
+  const Samples fields = sampler.sample(points, true);
+  const double fields_seconds = std::chrono::duration<double>(Clock::now() - fields_start).count();
+
+  // 4. Profiles along horizontal cuts.
+  const double stress_scale = set.rho_bulk * set.gravity * set.mean_height;
+  write_profile_values(out("profiles.csv"), profile_rows(settings, domain, sampler, set.mean_height, stress_scale));
+
+  // 5. The files and the report.
   const char* methods[] = {"rve", "gaussian", "lucy"};
   nlohmann::json info = {{"method", methods[static_cast<int>(settings.method)]},
                          {"rve_radius_m", radius},
                          {"kernel_width_m", settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width},
                          {"piles", static_cast<std::int64_t>(piles.size())},
                          {"snapshot", settings.snapshot},
-                         {"strain_to", piles_with_strains ? settings.strain_to : std::string("")},
-                         {"gravity_change", gravity_change},
-                         {"height_m", mean_height},
-                         {"rho_bulk_kg_per_m2", rho_bulk},
-                         {"gravity_m_per_s2", gravity}};
-  write_fields_h5((std::filesystem::path(opt.out_dir) / "fields.h5").string(), mesh, on_nodes, points, fields, info);
-  write_vtu((std::filesystem::path(opt.out_dir) / "fields.vtu").string(), mesh, on_nodes, fields, piles.size() > 1);
+                         {"strain_to", set.piles_with_strains ? settings.strain_to : std::string("")},
+                         {"gravity_change", set.gravity_change},
+                         {"height_m", set.mean_height},
+                         {"rho_bulk_kg_per_m2", set.rho_bulk},
+                         {"gravity_m_per_s2", set.gravity}};
+  write_fields_h5(out("fields.h5"), mesh, on_nodes, points, fields, info);
+  write_vtu(out("fields.vtu"), mesh, on_nodes, fields, piles.size() > 1);
 
+  const FieldSummary summary = summarise_fields(fields);
   nlohmann::json section = info;
   section["dem_files"] = settings.dem_files;
   section["mesh_file"] = settings.mesh_file;
   section["location"] = on_nodes ? "nodes" : "cells";
   section["rve_volume"] = settings.clip_volume ? "clipped" : "full";
   section["rve_grain_count_target"] = grain_count_target;
-  section["mean_grain_count"] = mean_count;
+  section["mean_grain_count"] = summary.mean_grain_count;
   section["points"] = points.size();
-  section["points_without_data"] = no_data;
-  section["strains"] = piles_with_strains > 0;
-  section["piles_with_strains"] = piles_with_strains;
-  section["fabric_g2"] = g2_points ? g2 / g2_points : 0.0;
+  section["points_without_data"] = summary.points_without_data;
+  section["strains"] = set.piles_with_strains > 0;
+  section["piles_with_strains"] = set.piles_with_strains;
+  section["fabric_g2"] = summary.fabric_g2;
   int outside = 0;
   for (const Pile& p : piles) outside = std::max(outside, p.rve->grains_outside_domain());
   section["grains_outside_mesh"] = outside;
-  section["bulk_volume_fraction"] = bulk_fraction;
+  section["bulk_volume_fraction"] = set.bulk_fraction;
   section["stress_scale_rho_g_h_N_per_m"] = stress_scale;
   section["rve_study"] = {{"tolerance", settings.study_tolerance},
                           {"chosen_grain_count", chosen_count},
-                          {"chosen_radius_m", radius_for(chosen_count)},
-                          {"points", study_json}};
-  section["virial_identity"] = identity;
+                          {"chosen_radius_m", set.radius_for(chosen_count)},
+                          {"points", study.points}};
+  section["virial_identity"] = virial_identities(piles);
   section["fields_wall_time_s"] = fields_seconds;
   section["wall_time_s"] = std::chrono::duration<double>(Clock::now() - start).count();
-  write_report_section((std::filesystem::path(opt.out_dir) / "report.json").string(), "coarse", section);
+  write_report_section(out("report.json"), "coarse", section);
   return section;
 }
 

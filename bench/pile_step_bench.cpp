@@ -85,6 +85,15 @@ const World& prepared_pile(Scheme scheme) {
   return it->second;
 }
 
+// Each phase's share of the steps' wall time, from the world's profile before and after.
+void set_phase_shares(benchmark::State& state, const StepProfile& before, const StepProfile& after) {
+  const double total = after.total() - before.total();
+  state.counters["share_narrow"] = (after.narrow_phase - before.narrow_phase) / total;
+  state.counters["share_broad"] = (after.broad_phase - before.broad_phase) / total;
+  state.counters["share_move"] = (after.move - before.move) / total;
+  state.counters["share_gather_correct"] = (after.gather_correct - before.gather_correct) / total;
+}
+
 void BM_PileStep(benchmark::State& state) {
   const Scheme scheme = static_cast<Scheme>(state.range(0));
   World w = prepared_pile(scheme);
@@ -104,12 +113,7 @@ void BM_PileStep(benchmark::State& state) {
   state.counters["contacts_per_s"] = benchmark::Counter(double(contacts), benchmark::Counter::kIsRate);
   state.counters["contacts_per_grain"] = double(contacts) / (grains * double(state.iterations()));
   state.counters["candidates_per_grain"] = double(candidates) / (grains * double(state.iterations()));
-  const StepProfile& p = w.profile();
-  const double total = p.total() - before.total();
-  state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;
-  state.counters["share_broad"] = (p.broad_phase - before.broad_phase) / total;
-  state.counters["share_move"] = (p.move - before.move) / total;
-  state.counters["share_gather_correct"] = (p.gather_correct - before.gather_correct) / total;
+  set_phase_shares(state, before, w.profile());
   state.SetLabel(scheme_name(scheme));
 }
 // The pour from a checkpoint: every call restarts from the same state.
@@ -139,12 +143,7 @@ void BM_PourStep(benchmark::State& state) {
   state.counters["particle_steps_per_s"] = benchmark::Counter(grain_steps, benchmark::Counter::kIsRate);
   state.counters["contacts_per_grain"] = double(contacts) / grain_steps;
   state.counters["candidates_per_grain"] = double(candidates) / grain_steps;
-  const StepProfile& p = w.profile();
-  const double total = p.total() - before.total();
-  state.counters["share_narrow"] = (p.narrow_phase - before.narrow_phase) / total;
-  state.counters["share_broad"] = (p.broad_phase - before.broad_phase) / total;
-  state.counters["share_move"] = (p.move - before.move) / total;
-  state.counters["share_gather_correct"] = (p.gather_correct - before.gather_correct) / total;
+  set_phase_shares(state, before, w.profile());
   state.SetLabel(scheme_name(protocol.scene().scheme));
 }
 BENCHMARK(BM_PourStep)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2000);

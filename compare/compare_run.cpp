@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -347,6 +348,20 @@ namespace {
 
 // --- The steps of the comparison -------------------------------------------------------------
 
+// At each point, the angle between the model's major compressive axis and the DEM's (0-90
+// degrees), where both have one (ok); none if either source has no stress axes.
+std::optional<std::vector<double>> axis_angle_to_dem(const PointFields& model, const PointFields& dem, std::vector<char>& ok) {
+  if (!(model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")))
+    return std::nullopt;
+  std::vector<double> angle(dem.points.size(), 0.0);
+  ok = both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
+  for (std::size_t i = 0; i < angle.size(); ++i)
+    if (ok[i])
+      angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
+                                compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
+  return angle;
+}
+
 // The numbers report.json gives for one model against the DEM's fields (both on the DEM's
 // points): relative L2 differences of the stresses (whole pile and lower half), the mean angle
 // between the principal axes, and the differences of the displacements and strains of the
@@ -360,16 +375,8 @@ nlohmann::json model_differences(const Triangulation& mesh, const PointFields& m
     m[std::string("relative_l2_lower_half_") + c] =
         l2_difference(mesh, model.at(c), model.valid.at(c), dem.at(c), dem.valid.at(c), lower_half).relative;
   }
-  if (model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")) {
-    std::vector<double> angle(dem.points.size());
-    const std::vector<char> ok =
-        both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
-    for (std::size_t i = 0; i < angle.size(); ++i)
-      if (ok[i])
-        angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
-                                  compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
-    m["principal_axis_angle_mean_deg"] = area_mean(mesh, angle, ok);
-  }
+  std::vector<char> ok;
+  if (const auto angle = axis_angle_to_dem(model, dem, ok)) m["principal_axis_angle_mean_deg"] = area_mean(mesh, *angle, ok);
   m.update(displacement_and_strain_differences(mesh, model, dem));
   return m;
 }
@@ -621,16 +628,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
         for (std::size_t i = 0; i < d.size(); ++i) d[i] = model.at(c)[i] - dem.at(c)[i];
         add_field(name + "_minus_dem_" + c, d, both(model.valid.at(c), dem.valid.at(c)));
       }
-      if (model.has("stress_xx") && model.has("stress_yy") && model.has("stress_xy") && dem.has("stress_orientation_deg")) {
-        std::vector<double> angle(dem.points.size());
-        const std::vector<char> ok =
-            both(both(model.valid.at("stress_xx"), model.valid.at("stress_yy")), dem.valid.at("stress_orientation_deg"));
-        for (std::size_t i = 0; i < angle.size(); ++i)
-          if (ok[i])
-            angle[i] = axis_angle_deg(dem.at("stress_orientation_deg")[i],
-                                      compressive_axis_deg(model.at("stress_xx")[i], model.at("stress_yy")[i], model.at("stress_xy")[i]));
-        add_field(name + "_axis_angle_to_dem_deg", angle, ok);
-      }
+      std::vector<char> axis_ok;
+      if (const auto angle = axis_angle_to_dem(model, dem, axis_ok)) add_field(name + "_axis_angle_to_dem_deg", *angle, axis_ok);
       if (model.has("displacement_x") && dem.has("displacement_x")) {
         add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
         add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Fuzzes every reader of user input (fuzz/: scene files, meshes, dem.h5, fields.h5,
+# checkpoints) with libFuzzer under AddressSanitizer and UndefinedBehaviorSanitizer.
+#
+#   bash scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default 600 s, every target)
+#
+# Builds with clang into build-fuzz/ (the libraries instrumented, no deal.II), runs each target
+# from its corpus fuzz/corpus/TARGET, and then:
+#  - inputs that reach new code are merged, minimised, into the corpus of the text formats
+#    (scene, mesh), which the test suite replays (fuzz_replay_TARGET); the HDF5 targets' finds
+#    stay in build-fuzz/corpus/TARGET (binary files of tens of kB each: not committed);
+#  - an input that crashed or escaped its reader is in build-fuzz/crashes/TARGET/; copy it into
+#    fuzz/corpus/TARGET/ once fixed, so that the replay test keeps it fixed.
+# Exit status: non-zero if any target found a defect.
+set -uo pipefail
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+seconds=${1:-600}
+shift || true
+targets=("$@")
+((${#targets[@]})) || targets=(scene mesh dem_file fields checkpoint)
+build=$repo/build-fuzz
+command -v clang++ >/dev/null || { echo "fuzz: clang++ not found (apt-get install clang)" >&2; exit 2; }
+cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=Release -DPILELAB_FUZZ=ON -DPILELAB_CONTINUUM=OFF -DPILELAB_TESTS=OFF \
+  -DPILELAB_BENCHMARKS=OFF -DPILELAB_OPENMP=OFF >/dev/null || exit 2
+cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}" || exit 2
+status=0
+for t in "${targets[@]}"; do
+  mkdir -p "$build/corpus/$t" "$build/crashes/$t"
+  dict=()
+  [[ -f $repo/fuzz/$t.dict ]] && dict=(-dict="$repo/fuzz/$t.dict")
+  echo "fuzz: $t for $seconds s" >&2
+  # HDF5 prints its error stack for every refused file: only libFuzzer's own lines are kept.
+  "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix="$build/crashes/$t/" "${dict[@]}" "$build/corpus/$t" "$repo/fuzz/corpus/$t" \
+    > "$build/$t.log" 2>&1 || status=1
+  grep -E "^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::peak_rss_mb|==[0-9]+==ERROR|SUMMARY|fuzz $t:)" "$build/$t.log" >&2
+  case $t in
+    scene | mesh) "$build/fuzz/fuzz_$t" -merge=1 "$repo/fuzz/corpus/$t" "$build/corpus/$t" >/dev/null 2>&1 ;;
+  esac
+done
+ls "$build"/crashes/*/* >/dev/null 2>&1 && { echo "fuzz: defects found:" >&2; ls "$build"/crashes/*/* >&2; status=1; }
+exit $status

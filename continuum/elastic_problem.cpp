@@ -51,16 +51,7 @@ SymmetricTensor<2, 2> ElasticProblem::stress(const SymmetricTensor<2, 2>& eps) c
 }
 
 const ElasticResult& ElasticProblem::run() {
-  Timer timer;
-  setup_system();
-  result_.setup_s = timer.wall_time();
-  timer.restart();
-  assemble_system();
-  result_.assemble_s = timer.wall_time();
-  timer.restart();
-  solve();
-  result_.solve_s = timer.wall_time();
-  compute_base_force();
+  run_model_steps(*this, result_);
   return result_;
 }
 

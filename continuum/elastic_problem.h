@@ -26,21 +26,14 @@
 
 #include "continuum/field_output.h"
 #include "continuum/linear_solvers.h"
+#include "continuum/model_problem.h"
 #include "continuum/pile_domain.h"
 #include "continuum/settings.h"
 #include "continuum/stress_fields.h"
 
 namespace pilelab::continuum {
 
-struct ElasticResult {
-  std::size_t n_dofs = 0;
-  std::size_t n_cells = 0;
-  SolveStats solver;
-  double setup_s = 0, assemble_s = 0, solve_s = 0;
-  double base_force_N = 0;              ///< int_base p_yy dx, compressive positive (N: 2D force)
-  double base_shear_force = 0;          ///< int_base p_xy dx (p = -sigma): 0 for a pile in balance
-  double weight = 0;                    ///< rho g |Omega|
-};
+using ElasticResult = ModelResult;
 
 class ElasticProblem {
  public:
@@ -79,6 +72,8 @@ class ElasticProblem {
   const dealii::DoFHandler<2>& dof_handler() const { return dof_handler_; }
 
  private:
+  template <class Problem, class Result>
+  friend void run_model_steps(Problem&, Result&);
   void setup_system();
   void assemble_system();
   void solve();

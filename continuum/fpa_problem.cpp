@@ -44,16 +44,7 @@ double FpaProblem::closure_coefficient(const TriaAccessor<2, 2, 2>& cell) const 
 }
 
 const FpaResult& FpaProblem::run() {
-  Timer timer;
-  setup_system();
-  result_.setup_s = timer.wall_time();
-  timer.restart();
-  assemble_system();
-  result_.assemble_s = timer.wall_time();
-  timer.restart();
-  solve();
-  result_.solve_s = timer.wall_time();
-  compute_base_force();
+  run_model_steps(*this, result_);
   return result_;
 }
 

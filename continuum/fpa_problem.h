@@ -33,20 +33,14 @@
 
 #include "continuum/field_output.h"
 #include "continuum/linear_solvers.h"
+#include "continuum/model_problem.h"
 #include "continuum/pile_domain.h"
 #include "continuum/settings.h"
 #include "continuum/stress_fields.h"
 
 namespace pilelab::continuum {
 
-struct FpaResult {
-  std::size_t n_dofs = 0;
-  std::size_t n_cells = 0;
-  SolveStats solver;
-  double setup_s = 0, assemble_s = 0, solve_s = 0;
-  double base_force_N = 0;  ///< int_base p_yy dx (compressive positive)
-  double base_shear_force = 0;    ///< int_base p_xy dx
-  double weight = 0;              ///< rho g |Omega|
+struct FpaResult : ModelResult {
   double residual_norm = 0;       ///< J(s_h)^(1/2): how far the discrete stress is from equilibrium
   /// Fraction of the area (at quadrature points) where the closure's fixed direction is the
   /// MINOR principal axis: the linear closure fixes the axes, not which is major, and where
@@ -81,6 +75,8 @@ class FpaProblem {
   const FpaResult& result() const { return result_; }
 
  private:
+  template <class Problem, class Result>
+  friend void run_model_steps(Problem&, Result&);
   void setup_system();
   void assemble_system();
   void solve();

@@ -119,6 +119,51 @@ nlohmann::json solve_model(Problem& problem, const std::string& name, const Solv
           {"file", fs::path(file).filename().string()}};
 }
 
+// Isotropic elasticity under gravity, and the gravity change its displacements are for.
+nlohmann::json solve_elastic(const ContinuumSettings& s, const Triangulation2& tria, const PileGeometry&, Outputs& outputs) {
+  const ElasticSettings& e = s.elastic_model;
+  ElasticProblem problem(tria, e, s.density_kg_per_m2, s.gravity_m_per_s2);
+  nlohmann::json j = solve_model(problem, "elastic", e.solver, outputs);
+  j["degree"] = e.degree;
+  j["plane"] = e.plane == ElasticSettings::Plane::strain ? "strain" : "stress";
+  j["base"] = e.base == ElasticSettings::Base::rough ? "rough" : "smooth";
+  j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
+  j["poisson_ratio"] = e.poisson_ratio;
+  j["gravity_change"] = e.gravity_change;
+  // Its displacement and strain are those of this change of g: compare scales them to the DEM's.
+  outputs.fields.back().attributes["gravity_change"] = e.gravity_change;
+  return j;
+}
+
+// The FPA closure with the pile's repose angles, and how well its stress balances gravity.
+nlohmann::json solve_fpa(const ContinuumSettings& s, const Triangulation2& tria, const PileGeometry& pile, Outputs& outputs) {
+  const FpaSettings& f = s.fpa_model;
+  FpaProblem problem(tria, f, s.density_kg_per_m2, s.gravity_m_per_s2, pile.apex_x_m);
+  nlohmann::json j = solve_model(problem, "fpa", f.solver, outputs);
+  j["degree"] = f.degree;
+  j["left_repose_angle_deg"] = f.left_repose_angle_deg;
+  j["right_repose_angle_deg"] = f.right_repose_angle_deg;
+  j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
+  j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
+  j["minor_axis_fixed_area_fraction"] = problem.result().minor_axis_fixed_area_fraction;
+  j["equilibrium_residual_over_weight"] = problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
+  return j;
+}
+
+// The models `pilelab solve` knows, in the order it solves them: the scene's switch for each
+// (continuum.models) and its solve, which adds its own settings and figures to what every model
+// reports (solve_model). A third model is its problem class, its table in settings.cpp and one
+// line here.
+struct ModelEntry {
+  const char* name;
+  bool ContinuumSettings::*wanted;
+  nlohmann::json (*solve)(const ContinuumSettings&, const Triangulation2&, const PileGeometry&, Outputs&);
+};
+const ModelEntry model_registry[] = {
+    {"elastic", &ContinuumSettings::elastic, solve_elastic},
+    {"fpa", &ContinuumSettings::fpa, solve_fpa},
+};
+
 }  // namespace
 
 nlohmann::json run_solve(const SolveOptions& o) {
@@ -153,32 +198,8 @@ nlohmann::json run_solve(const SolveOptions& o) {
                            {"rho_g_h_N_per_m", rho_g_h},
                            {"stress_sign", "stress_* tension positive; pressure, principal stresses and profile sigma_* compressive positive"}};
   Outputs outputs{o.out_dir, *tria, pile, s, rho_g_h, model_output_points(*tria), {}, {}, comm, pcout};
-  if (s.elastic) {
-    const ElasticSettings& e = s.elastic_model;
-    ElasticProblem problem(*tria, e, s.density_kg_per_m2, s.gravity_m_per_s2);
-    nlohmann::json& j = report["elastic"] = solve_model(problem, "elastic", e.solver, outputs);
-    j["degree"] = e.degree;
-    j["plane"] = e.plane == ElasticSettings::Plane::strain ? "strain" : "stress";
-    j["base"] = e.base == ElasticSettings::Base::rough ? "rough" : "smooth";
-    j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
-    j["poisson_ratio"] = e.poisson_ratio;
-    j["gravity_change"] = e.gravity_change;
-    // Its displacement and strain are those of this change of g: compare scales them to the DEM's.
-    outputs.fields.back().attributes["gravity_change"] = e.gravity_change;
-  }
-  if (s.fpa) {
-    const FpaSettings& f = s.fpa_model;
-    FpaProblem problem(*tria, f, s.density_kg_per_m2, s.gravity_m_per_s2, pile.apex_x_m);
-    nlohmann::json& j = report["fpa"] = solve_model(problem, "fpa", f.solver, outputs);
-    j["degree"] = f.degree;
-    j["left_repose_angle_deg"] = f.left_repose_angle_deg;
-    j["right_repose_angle_deg"] = f.right_repose_angle_deg;
-    j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
-    j["surface"] = f.surface == FpaSettings::Surface::strong ? "strong" : "weak";
-    j["minor_axis_fixed_area_fraction"] = problem.result().minor_axis_fixed_area_fraction;
-    j["equilibrium_residual_over_weight"] =
-        problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
-  }
+  for (const ModelEntry& model : model_registry)
+    if (s.*model.wanted) report[model.name] = model.solve(s, *tria, pile, outputs);
   report["wall_time_s"] = total.wall_time();
   on_rank0(comm, [&] {
     write_profile_values((fs::path(o.out_dir) / "profiles.csv").string(), outputs.profile_rows);

@@ -1,7 +1,10 @@
 #include "common/hdf5_file.h"
 
+#include <cstring>
+
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -30,6 +33,7 @@ struct Handle {
   }
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& other) noexcept : id(other.id) { other.id = -1; }
 };
 
 // Creation properties of an object (file root, group or dataset) without the creation and
@@ -191,17 +195,52 @@ void H5File::write(const std::string& dataset, const std::vector<std::uint64_t>&
   write_dataset(id_, dataset, data, std::move(dims), H5T_NATIVE_UINT64, path_);
 }
 
-void H5File::write_string(const std::string& dataset, const std::string& text) {
+namespace {
+// Strings are written with a fixed length (UTF-8, NUL-padded), never as variable-length ones:
+// those live in the file's global heap, and HDF5 1.10 reading a damaged global heap can loop
+// forever (found by fuzz/fuzz_dem_file.cpp). A fixed-length string is read in place.
+Handle fixed_string_type(const std::string& text) {
   Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_size(type.id, std::max<std::size_t>(text.size(), 1));
+  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
   H5Tset_cset(type.id, H5T_CSET_UTF8);
+  return type;
+}
+
+// A string dataset or attribute of either kind (variable-length ones are written by h5py and by
+// pilelab before 2026-12-02), read through `read(memory_type, buffer)`.
+template <class Read>
+bool read_any_string(hid_t file_type, Read&& read, std::string& out) {
+  if (H5Tget_class(file_type) != H5T_STRING) return false;
+  if (H5Tis_variable_str(file_type) > 0) {
+    Handle memory(H5Tcopy(H5T_C_S1));
+    H5Tset_size(memory.id, H5T_VARIABLE);
+    H5Tset_cset(memory.id, H5Tget_cset(file_type));
+    char* p = nullptr;
+    if (read(memory.id, static_cast<void*>(&p)) < 0 || !p) return false;
+    out.assign(p);
+    H5free_memory(p);
+    return true;
+  }
+  const std::size_t n = H5Tget_size(file_type);
+  if (n == 0 || n > (std::size_t(1) << 30)) return false;
+  std::string s(n, '\0');
+  if (read(file_type, static_cast<void*>(s.data())) < 0) return false;
+  s.resize(std::strlen(s.c_str()));  // NUL-padded or NUL-terminated
+  out = std::move(s);
+  return true;
+}
+}  // namespace
+
+void H5File::write_string(const std::string& dataset, const std::string& text) {
+  Handle type = fixed_string_type(text);
   Handle space(H5Screate(H5S_SCALAR));
   create_parent_groups(id_, dataset, path_);
   Handle dcpl(untimed(H5P_DATASET_CREATE));
   Handle ds(H5Dcreate2(id_, dataset.c_str(), type.id, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   if (ds.id < 0) fail(dataset, "cannot create string dataset");
-  const char* p = text.c_str();
-  if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) fail(dataset, "cannot write string");
+  const std::string padded = text.empty() ? std::string(1, '\0') : text;
+  if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()) < 0) fail(dataset, "cannot write string");
 }
 
 std::vector<double> H5File::read_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims) const {
@@ -217,13 +256,12 @@ std::vector<std::uint64_t> H5File::read_uints(const std::string& dataset) const 
 std::string H5File::read_string(const std::string& dataset) const {
   Handle ds(H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT));
   if (ds.id < 0) fail(dataset, "missing dataset");
-  Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.id, H5T_VARIABLE);
-  H5Tset_cset(type.id, H5T_CSET_UTF8);
-  char* p = nullptr;
-  if (H5Dread(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0 || !p) fail(dataset, "not a string");
-  std::string s(p);
-  H5free_memory(p);
+  Handle type(H5Dget_type(ds.id));
+  Handle space(H5Dget_space(ds.id));
+  if (H5Sget_simple_extent_npoints(space.id) != 1) fail(dataset, "not a single string");
+  std::string s;
+  const auto read = [&](hid_t memory, void* buffer) { return H5Dread(ds.id, memory, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer); };
+  if (!read_any_string(type.id, read, s)) fail(dataset, "not a string");
   return s;
 }
 
@@ -235,15 +273,12 @@ void H5File::set_attribute(const std::string& object_path, const std::string& na
   ensure_group(object_path);
   Handle obj(open_object(id_, object_path));
   if (obj.id < 0) fail(object_path, "no such object");
-  // Variable-length UTF-8, as h5py writes a Python str (and reads back as str, not bytes).
-  Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.id, H5T_VARIABLE);
-  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Handle type = fixed_string_type(value);  // h5py reads it as bytes; python/pilelab decodes them
   Handle space(H5Screate(H5S_SCALAR));
   if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
   Handle a(H5Acreate2(obj.id, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT));
-  const char* text = value.c_str();
-  if (a.id < 0 || H5Awrite(a.id, type.id, &text) < 0) fail(object_path, "cannot write attribute " + name);
+  const std::string padded = value.empty() ? std::string(1, '\0') : value;
+  if (a.id < 0 || H5Awrite(a.id, type.id, padded.data()) < 0) fail(object_path, "cannot write attribute " + name);
 }
 
 namespace {
@@ -294,20 +329,9 @@ std::string H5File::attribute_string(const std::string& object_path, const std::
   if (a.id < 0) fail(object_path, "missing attribute " + name);
   Handle type(H5Aget_type(a.id));
   if (H5Tget_class(type.id) != H5T_STRING) fail(object_path, "attribute " + name + " is not a string");
-  if (H5Tis_variable_str(type.id) > 0) {  // as h5py writes a Python str
-    Handle memory(H5Tcopy(H5T_C_S1));
-    H5Tset_size(memory.id, H5T_VARIABLE);
-    H5Tset_cset(memory.id, H5Tget_cset(type.id));
-    char* p = nullptr;
-    if (H5Aread(a.id, memory.id, &p) < 0 || !p) fail(object_path, "cannot read attribute " + name);
-    std::string s(p);
-    H5free_memory(p);
-    return s;
-  }
-  const std::size_t n = H5Tget_size(type.id);
-  std::string s(n, '\0');
-  if (H5Aread(a.id, type.id, s.data()) < 0) fail(object_path, "cannot read attribute " + name);
-  while (!s.empty() && s.back() == '\0') s.pop_back();
+  std::string s;
+  if (!read_any_string(type.id, [&](hid_t memory, void* buffer) { return H5Aread(a.id, memory, buffer); }, s))
+    fail(object_path, "cannot read attribute " + name);
   return s;
 }
 

@@ -6,10 +6,10 @@
 // PILELAB_BENCH_SAVE=path/to/heap.h5 it writes that heap there, to be loaded next time.
 //
 // BM_PourStep steps a pile while it is being poured (grains falling from the funnel, a flowing
-// surface), which costs more per grain than a settled pile: with PILELAB_BENCH_POUR=DIR it
-// restores DIR/checkpoint.h5 of the scene DIR/scene.toml (a member's checkpoint, e.g.
-// bench/data/paper_pour_seed1_t35: the paper pile of seed 1 at t = 35 s, 5250 grains poured of 6500) and runs the whole protocol step (world plus
-// inflow); without it the benchmark is skipped.
+// surface), where a pour spends its steps: with PILELAB_BENCH_POUR=DIR it restores
+// DIR/checkpoint.h5 of the scene DIR/scene.toml and runs the whole protocol step (world plus
+// inflow), e.g. DIR = bench/data/paper_pour_seed1_t35 (the paper pile of seed 1 at t = 35 s:
+// 5250 of its 6500 grains poured); without it the benchmark is skipped.
 // Threads: OMP_NUM_THREADS.
 #include <cstdlib>
 #include <map>

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <limits>
 #include <filesystem>
 
 #include "common/error.h"
@@ -168,8 +170,24 @@ std::vector<T> read_dataset(hid_t file, const std::string& name, hid_t mem_type,
   if (rank < 0) throw InputError(path + ": " + name + ": unreadable dataspace");
   std::vector<hsize_t> hd(static_cast<std::size_t>(rank));
   H5Sget_simple_extent_dims(space.id, hd.data(), nullptr);
+  // A damaged header can claim any shape (one found by fuzzing claimed 4 TB): before
+  // allocating, the claim must fit what the file stores. Stored data expands by at most about
+  // 1000 on decompression (deflate's limit is 1032:1), and never beyond the file holding it.
   hsize_t n = 1;
-  for (auto d : hd) n *= d;
+  bool overflow = false;
+  for (auto d : hd) {
+    overflow = overflow || (d != 0 && n > std::numeric_limits<hsize_t>::max() / d);
+    n *= d;
+  }
+  Handle file_type(H5Dget_type(ds.id));
+  const hsize_t stored = H5Dget_storage_size(ds.id);
+  const double claimed_bytes = static_cast<double>(n) * static_cast<double>(std::max<std::size_t>(H5Tget_size(file_type.id), 1));
+  if (overflow || claimed_bytes > 1100.0 * static_cast<double>(stored) + 65536.0) {
+    std::ostringstream m;
+    m << path << ": " << name << ": the dataset's shape claims " << claimed_bytes << " bytes of data, but the file stores "
+      << stored << " for it (a damaged file)";
+    throw InputError(m.str());
+  }
   std::vector<T> out(n);
   if (n > 0 && H5Dread(ds.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     throw InputError(path + ": " + name + ": cannot read dataset (wrong type or corrupt)");

@@ -1,4 +1,5 @@
 #include "mesh/pile_mesh.h"
+#include "mesh/msh_check.h"
 
 #include <cmath>
 #include <cstdio>
@@ -287,6 +288,7 @@ TriangleMesh read_triangle_mesh(const std::string& path) {
     std::ifstream probe(path);
     if (!probe) throw InputError(path + ": cannot open the mesh file (expected a gmsh .msh file)");
   }
+  check_msh_file(path);  // gmsh's reader crashes on some damaged files: refuse them first
   TriangleMesh mesh;
   GmshSession session;
   try {

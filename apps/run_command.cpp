@@ -76,14 +76,6 @@ struct Stage {
 };
 
 #ifdef PILELAB_WITH_CONTINUUM
-// Absolute form of a path key of a table (the derived scenes live in OUT/, not beside the scene).
-void make_absolute(toml::table& root, const char* table, const char* key, const std::string& scene_dir) {
-  toml::table* t = root[table].as_table();
-  if (!t) return;
-  if (auto v = (*t)[key].value<std::string>(); v && !v->empty() && std::filesystem::path(*v).is_relative())
-    t->insert_or_assign(key, (std::filesystem::path(scene_dir) / *v).string());
-}
-
 // A number the earlier stages wrote to report.json; a missing or null one (a non-finite value
 // is written as null) names the key instead of failing inside the JSON library.
 double report_number(const nlohmann::json& report, const std::string& section, const std::string& key) {
@@ -94,36 +86,19 @@ double report_number(const nlohmann::json& report, const std::string& section, c
   return s[key].get<double>();
 }
 
-// The scene for the solve stage: the user's, with what the DEM measured filled in where the
-// [continuum] table leaves it open: the bulk density of the pile (coarse) and its repose
-// angles (the pile's, or an ensemble's means), so the models carry the same load and closure as
-// the pile they are compared to.
-std::string solve_scene(const std::string& scene_path, const std::string& out_dir, const nlohmann::json& report,
-                        const std::optional<mesh::Wedge>& measured) {
-  toml::table root = toml::parse_file(scene_path);
-  const std::string scene_dir = std::filesystem::path(scene_path).parent_path().string();
-  make_absolute(root, "continuum", "mesh_file", scene_dir);
-  make_absolute(root, "mesh", "dem_file", scene_dir);
-  if (!root["continuum"].as_table()) root.insert("continuum", toml::table{});
-  toml::table& c = *root["continuum"].as_table();
-  if (!c.contains("density_kg_per_m2") && report.contains("coarse"))
-    c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
-  if (!c.contains("gravity_m_per_s2") && report.contains("coarse"))
-    c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
-  if (measured) {
-    if (!c["fpa"].as_table()) c.insert("fpa", toml::table{});
-    toml::table& f = *c["fpa"].as_table();
-    const double l = measured->left_angle_deg, r = measured->right_angle_deg;
-    if (!f.contains("repose_angle_deg") && !f.contains("left_repose_angle_deg") && l > 0 && l < 45 && r > 0 && r < 45) {
-      f.insert("left_repose_angle_deg", l);
-      f.insert("right_repose_angle_deg", r);
-    }
+// What the solve takes from the stages before it where the scene leaves it open: the bulk
+// density and gravity coarse measured, the repose angles of the pile (or the members' means).
+continuum::MeasuredPile measured_for_solve(const nlohmann::json& report, const std::optional<mesh::Wedge>& pile) {
+  continuum::MeasuredPile m;
+  if (report.contains("coarse")) {
+    m.density_kg_per_m2 = report_number(report, "coarse", "rho_bulk_kg_per_m2");
+    m.gravity_m_per_s2 = report_number(report, "coarse", "gravity_m_per_s2");
   }
-  std::ostringstream text;
-  text << root;
-  const std::string path = (std::filesystem::path(out_dir) / "solve_scene.toml").string();
-  write_text_atomically(path, text.str() + "\n");
-  return path;
+  if (pile) {
+    m.left_repose_angle_deg = pile->left_angle_deg;
+    m.right_repose_angle_deg = pile->right_angle_deg;
+  }
+  return m;
 }
 
 // The closed loop of the fit: the gravity change solved with the fitted isotropic constants,
@@ -361,13 +336,12 @@ void run_pipeline(const RunOptions& opt) {
   stages.push_back({"solve", {"continuum", "mesh"}, {"pile.msh", "fields.h5"}, scene_paths("continuum", "mesh_file"),
                     {"models.h5"}, true, [&] {
                       MpiWorld::get();  // MPI and PETSc, for this and any later solve
-                      on_root(world, [&] {
-                        solve_scene(opt.scene_path, opt.out_dir, read_report(out("report.json")), pile_measured());
-                      });
+                      // Every rank reads the same files, so every rank hands the same values.
                       continuum::SolveOptions o;
-                      o.scene_path = out("solve_scene.toml");
+                      o.scene_path = opt.scene_path;
                       o.out_dir = opt.out_dir;
                       o.quiet = opt.quiet;
+                      o.measured = measured_for_solve(read_report(out("report.json")), pile_measured());
                       continuum::run_solve(o);
                     }});
 #endif

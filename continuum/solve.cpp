@@ -48,6 +48,23 @@ void on_rank0(MPI_Comm comm, const std::function<void()>& fn) {
   if (kind == 2) throw std::runtime_error(error);
 }
 
+// What the earlier stages measured, where the scene leaves the key open; true if the FPA takes
+// the measured angles (the scene sets none, or asks for the DEM's).
+bool apply_measured_pile(const MeasuredPile& m, const SceneReader& reader, ContinuumSettings& s) {
+  if (m.density_kg_per_m2 && !reader.has("continuum.density_kg_per_m2")) s.density_kg_per_m2 = *m.density_kg_per_m2;
+  if (m.gravity_m_per_s2 && !reader.has("continuum.gravity_m_per_s2")) s.gravity_m_per_s2 = *m.gravity_m_per_s2;
+  if (!m.left_repose_angle_deg || !m.right_repose_angle_deg) return false;
+  const double l = *m.left_repose_angle_deg, r = *m.right_repose_angle_deg;
+  const bool scene_sets_angles = reader.has("continuum.fpa.repose_angle_deg") ||
+                                 reader.has("continuum.fpa.left_repose_angle_deg") ||
+                                 reader.has("continuum.fpa.right_repose_angle_deg");
+  if ((scene_sets_angles && !s.fpa_model.angles_from_dem) || !(l > 0 && l < 45 && r > 0 && r < 45)) return false;
+  s.fpa_model.left_repose_angle_deg = l;
+  s.fpa_model.right_repose_angle_deg = r;
+  s.fpa_model.angles_from_dem = true;  // reported as repose_angle_source = "dem"
+  return true;
+}
+
 // The mesh: continuum.mesh_file if given, else OUT/pile.msh if a mesh stage made it, else one
 // generated now from the scene's [mesh] table (the `pilelab mesh` stage, run on rank 0).
 std::string find_or_make_mesh(const ContinuumSettings& s, const SolveOptions& o, MPI_Comm comm,
@@ -175,7 +192,11 @@ nlohmann::json run_solve(const SolveOptions& o) {
   SceneReader reader = SceneReader::from_file(o.scene_path);
   const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
   ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
-  if (s.fpa && s.fpa_model.angles_from_dem)
+  // The FPA's angles: the scene's; or the DEM's, handed over by `pilelab run` (one pile or an
+  // ensemble's mean) or, for `pilelab solve` with repose_angle_source = "dem", read from the
+  // DEM's report section.
+  const bool angles_handed_over = apply_measured_pile(o.measured, reader, s);
+  if (s.fpa && s.fpa_model.angles_from_dem && !angles_handed_over)
     apply_dem_repose_angles(s.fpa_model, (fs::path(o.out_dir) / "report.json").string());
   on_rank0(comm, [&] { fs::create_directories(o.out_dir); });
 

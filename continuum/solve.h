@@ -2,16 +2,26 @@
 // `pilelab solve`: the continuum models of the scene's [continuum] table on the pile
 // triangulation. This header is deal.II-free so that the command-line front end compiles fast.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 namespace pilelab::continuum {
 
+/// What the stages before the solve measured, for the [continuum] keys the scene leaves open
+/// (`pilelab run` hands them over): the pile's bulk density and gravity (coarse), and its repose
+/// angles (the DEM, or an ensemble's mean), which the FPA takes where both lie in (0, 45).
+struct MeasuredPile {
+  std::optional<double> density_kg_per_m2, gravity_m_per_s2;
+  std::optional<double> left_repose_angle_deg, right_repose_angle_deg;
+};
+
 struct SolveOptions {
   std::string scene_path;
   std::string out_dir;
   bool quiet = false;
+  MeasuredPile measured;  ///< used only where the scene sets nothing
 };
 
 /// Solves the models the scene lists and writes OUT/elastic.vtu, OUT/fpa.vtu (.pvtu and pieces

@@ -87,9 +87,6 @@ class Run:
     def scene_text(self):
         if self.dem is not None:
             return self.dem.scene
-        for candidate in ("solve_scene.toml",):
-            if os.path.exists(self.file(candidate)):
-                return open(self.file(candidate), encoding="utf-8").read()
         if self.members and self.members[0].dem is not None:
             return self.members[0].dem.scene
         return ""

@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/hdf5_probe.h"
 
 namespace pilelab {
 
@@ -98,6 +99,7 @@ H5File H5File::open_read(const std::string& path) {
   silence();
   if (!std::filesystem::exists(path)) throw InputError(path + ": no such file");
   if (H5Fis_hdf5(path.c_str()) <= 0) throw InputError(path + ": not an HDF5 file (corrupt or truncated?)");
+  probe_hdf5_file(path);  // a damaged file must not crash or hang the reader (hdf5_probe.h)
   hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (id < 0) throw InputError(path + ": cannot open as HDF5 (corrupt?)");
   return H5File(id, path);
@@ -220,19 +222,19 @@ void H5File::write(const std::string& dataset, const std::vector<std::uint64_t>&
 }
 
 namespace {
-// Strings are written with a fixed length (UTF-8, NUL-padded), never as variable-length ones:
-// those live in the file's global heap, and HDF5 1.10 reading a damaged global heap can loop
-// forever (found by fuzz/fuzz_dem_file.cpp). A fixed-length string is read in place.
-Handle fixed_string_type(const std::string& text) {
+// Strings are written as variable-length UTF-8, as h5py writes a Python str (and reads one back
+// as str). They live in the file's global heap, which HDF5 1.10 can loop on for ever when it is
+// damaged (found by fuzzing); the probe of every file before it is read (hdf5_probe.h) turns
+// that into a refusal.
+Handle string_type() {
   Handle type(H5Tcopy(H5T_C_S1));
-  H5Tset_size(type.id, std::max<std::size_t>(text.size(), 1));
-  H5Tset_strpad(type.id, H5T_STR_NULLPAD);
+  H5Tset_size(type.id, H5T_VARIABLE);
   H5Tset_cset(type.id, H5T_CSET_UTF8);
   return type;
 }
 
-// A string dataset or attribute of either kind (variable-length ones are written by h5py and by
-// pilelab before 2026-12-02), read through `read(memory_type, buffer)`.
+// A string dataset or attribute of either kind (variable-length, as pilelab and h5py write them,
+// or fixed-length, as other tools do), read through `read(memory_type, buffer)`.
 template <class Read>
 bool read_any_string(hid_t file_type, Read&& read, std::string& out) {
   if (H5Tget_class(file_type) != H5T_STRING) return false;
@@ -257,14 +259,14 @@ bool read_any_string(hid_t file_type, Read&& read, std::string& out) {
 }  // namespace
 
 void H5File::write_string(const std::string& dataset, const std::string& text) {
-  Handle type = fixed_string_type(text);
+  Handle type = string_type();
   Handle space(H5Screate(H5S_SCALAR));
   create_parent_groups(id_, dataset, path_);
   Handle dcpl(untimed(H5P_DATASET_CREATE));
   Handle ds(H5Dcreate2(id_, dataset.c_str(), type.id, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT));
   if (ds.id < 0) fail(dataset, "cannot create string dataset");
-  const std::string padded = text.empty() ? std::string(1, '\0') : text;
-  if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()) < 0) fail(dataset, "cannot write string");
+  const char* p = text.c_str();
+  if (H5Dwrite(ds.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0) fail(dataset, "cannot write string");
 }
 
 std::vector<double> H5File::read_doubles(const std::string& dataset, std::vector<std::uint64_t>* dims) const {
@@ -297,12 +299,12 @@ void H5File::set_attribute(const std::string& object_path, const std::string& na
   ensure_group(object_path);
   Handle obj(open_object(id_, object_path));
   if (obj.id < 0) fail(object_path, "no such object");
-  Handle type = fixed_string_type(value);  // h5py reads it as bytes; python/pilelab decodes them
+  Handle type = string_type();
   Handle space(H5Screate(H5S_SCALAR));
   if (H5Aexists(obj.id, name.c_str()) > 0) H5Adelete(obj.id, name.c_str());
   Handle a(H5Acreate2(obj.id, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT));
-  const std::string padded = value.empty() ? std::string(1, '\0') : value;
-  if (a.id < 0 || H5Awrite(a.id, type.id, padded.data()) < 0) fail(object_path, "cannot write attribute " + name);
+  const char* text = value.c_str();
+  if (a.id < 0 || H5Awrite(a.id, type.id, &text) < 0) fail(object_path, "cannot write attribute " + name);
 }
 
 namespace {

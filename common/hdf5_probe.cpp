@@ -1,0 +1,96 @@
+#include "common/hdf5_probe.h"
+
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "common/error.h"
+
+namespace pilelab {
+
+namespace {
+
+// Reads an attribute's value into a buffer of its own type (variable-length ones reclaimed).
+herr_t read_attribute(hid_t object, const char* name, const H5A_info_t*, void*) {
+  const hid_t a = H5Aopen(object, name, H5P_DEFAULT);
+  if (a < 0) return -1;
+  const hid_t type = H5Aget_type(a), space = H5Aget_space(a);
+  herr_t status = -1;
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  const size_t size = H5Tget_size(type);
+  if (n >= 0 && size > 0 && static_cast<double>(n) * size < 1e9) {
+    std::vector<unsigned char> buffer(static_cast<size_t>(n) * size + 1);
+    status = H5Aread(a, type, buffer.data());
+    if (status >= 0 && (H5Tdetect_class(type, H5T_VLEN) > 0 || H5Tis_variable_str(type) > 0))
+      H5Dvlen_reclaim(type, space, H5P_DEFAULT, buffer.data());
+  }
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Aclose(a);
+  return status;
+}
+
+// Every object: its attributes, and a dataset's data in its own type.
+herr_t read_object(hid_t file, const char* name, const H5O_info_t* info, void*) {
+  const hid_t object = H5Oopen(file, name, H5P_DEFAULT);
+  if (object < 0) return -1;
+  herr_t status = H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, read_attribute, nullptr);
+  if (status >= 0 && info->type == H5O_TYPE_DATASET) {
+    const hid_t type = H5Dget_type(object), space = H5Dget_space(object);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    const size_t size = H5Tget_size(type);
+    status = -1;
+    if (n >= 0 && size > 0 && static_cast<double>(n) * size < 4e9) {
+      std::vector<unsigned char> buffer(static_cast<size_t>(n) * size + 1);
+      status = n == 0 ? 0 : H5Dread(object, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
+      if (status >= 0 && n > 0 && (H5Tdetect_class(type, H5T_VLEN) > 0 || H5Tis_variable_str(type) > 0))
+        H5Dvlen_reclaim(type, space, H5P_DEFAULT, buffer.data());
+    }
+    H5Sclose(space);
+    H5Tclose(type);
+  }
+  H5Oclose(object);
+  return status;
+}
+
+// The child's work: 0 if every part of the file reads, 1 if HDF5 refuses a part.
+int read_everything(const char* path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) return 1;
+  const herr_t status = H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, read_object, nullptr, H5O_INFO_BASIC);
+  return status < 0 ? 1 : 0;  // the file is not closed: the child ends without HDF5's clean-up
+}
+
+}  // namespace
+
+void probe_hdf5_file(const std::string& path, unsigned limit_s) {
+  if (const char* limit = std::getenv("PILELAB_HDF5_PROBE_LIMIT_S")) limit_s = static_cast<unsigned>(std::max(1, std::atoi(limit)));
+  const pid_t child = fork();
+  if (child < 0) return;  // no process to spare: read the file as it is
+  if (child == 0) {
+    alarm(limit_s);  // a hang ends with SIGALRM
+    _exit(read_everything(path.c_str()));
+  }
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  if (WIFEXITED(status))
+    throw InputError(path + ": HDF5 cannot read every part of this file (damaged or truncated?)");
+  const int signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  if (signal == SIGALRM)
+    throw InputError(path + ": HDF5 did not finish reading this file within " + std::to_string(limit_s) +
+                     " s (a damaged file can make it loop)");
+  throw InputError(path + ": HDF5 crashed reading this file (signal " + std::to_string(signal) + ", " +
+                   strsignal(signal) + "): it is damaged");
+}
+
+}  // namespace pilelab

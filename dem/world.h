@@ -113,8 +113,9 @@ class World {
   /// for, so do not call it every step: contact_count() is cheap).
   const std::vector<Contact>& contacts() const;
   std::size_t contact_count() const { return contact_count_; }
-  /// World-frame corners of a polygon body (after the last step).
-  const Vec2* corners(int body) const { return &world_vertices_[vertex_offset_[body]]; }
+  /// World-frame corners of a polygon body (after the last step); a disc's are none (a pointer
+  /// one past its predecessor's, maybe the array's end, never read).
+  const Vec2* corners(int body) const { return world_vertices_.data() + vertex_offset_[body]; }
   int corner_count(int body) const { return vertex_offset_[body + 1] - vertex_offset_[body]; }
 
   double time() const { return time_; }

@@ -1,14 +1,13 @@
 #include "common/hdf5_file.h"
 
-#include <cstring>
-
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-#include <limits>
+#include <cstring>
 #include <filesystem>
+#include <limits>
+#include <sstream>
 
 #include "common/error.h"
 #include "common/hdf5_probe.h"

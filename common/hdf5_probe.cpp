@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -9,6 +10,8 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <set>
 #include <vector>
 
 #include "common/error.h"
@@ -72,6 +75,19 @@ int read_everything(const char* path) {
 }  // namespace
 
 void probe_hdf5_file(const std::string& path, unsigned limit_s) {
+  // A stage opens the same file several times (compare reads fields.h5 for the fields, the
+  // piles, the pile's scale): each version of a file is read in a child once per process.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return;  // the open that follows names the problem
+  const std::string version = path + '|' + std::to_string(st.st_dev) + ':' + std::to_string(st.st_ino) + '|' +
+                              std::to_string(st.st_size) + '|' + std::to_string(st.st_mtim.tv_sec) + '.' +
+                              std::to_string(st.st_mtim.tv_nsec);
+  static std::mutex mutex;
+  static std::set<std::string> readable;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (readable.count(version)) return;
+  }
   if (const char* limit = std::getenv("PILELAB_HDF5_PROBE_LIMIT_S")) limit_s = static_cast<unsigned>(std::max(1, std::atoi(limit)));
   const pid_t child = fork();
   if (child < 0) return;  // no process to spare: read the file as it is
@@ -82,7 +98,11 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    readable.insert(version);
+    return;
+  }
   if (WIFEXITED(status))
     throw InputError(path + ": HDF5 cannot read every part of this file (damaged or truncated?)");
   const int signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;

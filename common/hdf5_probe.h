@@ -10,7 +10,8 @@ namespace pilelab {
 
 /// Throws InputError naming the file if HDF5 cannot read all of it within limit_s seconds
 /// without crashing (PILELAB_HDF5_PROBE_LIMIT_S overrides the limit). Costs one fork and one
-/// read of the file: about 10 ms for a paper pile's dem.h5.
+/// read of the file (about 10 ms for a paper pile's dem.h5), once per version of the file (its
+/// inode, size and modification time) and process.
 void probe_hdf5_file(const std::string& path, unsigned limit_s = 60);
 
 }  // namespace pilelab

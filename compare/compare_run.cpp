@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <random>
@@ -511,9 +512,15 @@ PointFields without_pile(const PointFields& dem, const PileValues& piles, std::s
   return out;
 }
 
-// Adds "<key>_stderr" next to every number of `estimate` that each replicate has as a finite
-// number, from the jackknife replicates theta_(k).
-void add_jackknife_errors(nlohmann::json& estimate, const std::vector<nlohmann::json>& replicates) {
+// The numbers `numbers_of` gives for the ensemble-mean fields, each number with "<key>_stderr"
+// beside it from the jackknife replicates theta_(k) (where every replicate has it as a finite
+// number); without replicates (one pile), the numbers alone.
+nlohmann::json with_jackknife_errors(const std::function<nlohmann::json(const PointFields&)>& numbers_of, const PointFields& dem,
+                                     const std::vector<PointFields>& jackknife) {
+  nlohmann::json estimate = numbers_of(dem);
+  if (jackknife.empty()) return estimate;
+  std::vector<nlohmann::json> replicates;
+  for (const PointFields& d : jackknife) replicates.push_back(numbers_of(d));
   const double n = static_cast<double>(replicates.size());
   nlohmann::json errors = nlohmann::json::object();
   for (const auto& [key, value] : estimate.items()) {
@@ -529,6 +536,7 @@ void add_jackknife_errors(nlohmann::json& estimate, const std::vector<nlohmann::
     errors[key + "_stderr"] = std::sqrt((n - 1) / n * ss);
   }
   estimate.update(errors);
+  return estimate;
 }
 
 }  // namespace
@@ -614,13 +622,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
       nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; })}};
       if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
       if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
-      nlohmann::json differences = model_differences(mesh, model, dem, lower_half);
-      if (!jackknife.empty()) {
-        std::vector<nlohmann::json> replicates;
-        for (const PointFields& d : jackknife) replicates.push_back(model_differences(mesh, model, d, lower_half));
-        add_jackknife_errors(differences, replicates);
-      }
-      m.update(differences);
+      m.update(with_jackknife_errors([&](const PointFields& d) { return model_differences(mesh, model, d, lower_half); },
+                                     dem, jackknife));
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
         if (!model.has(c) || !dem.has(c)) continue;
         add_field(name + "_" + c, model.at(c), model.valid.at(c));
@@ -668,12 +671,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
 
   // 4. The FPA angle that best fits the DEM's stress axes, with its error over the piles.
   if (dem.has("stress_orientation_deg")) {
-    nlohmann::json fpa = fpa_angle_fit(mesh, dem, apex_x);
-    if (!jackknife.empty()) {
-      std::vector<nlohmann::json> replicates;
-      for (const PointFields& d : jackknife) replicates.push_back(fpa_angle_fit(mesh, d, apex_x));
-      add_jackknife_errors(fpa, replicates);
-    }
+    nlohmann::json fpa =
+        with_jackknife_errors([&](const PointFields& d) { return fpa_angle_fit(mesh, d, apex_x); }, dem, jackknife);
     fpa["repose_angle_deg"] = repose_deg;
     fpa["psi_fpa_deg"] = repose_deg > 0 ? 45.0 - 0.5 * repose_deg : 0.0;
     section["fpa_angle"] = fpa;

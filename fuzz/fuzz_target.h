@@ -36,14 +36,20 @@ void expect_clean_refusal(const char* target, Reader&& read) {
 /// The input as a file of its own (the readers take paths), removed when done.
 class InputFile {
  public:
+  // A new name for every input: the HDF5 probe reads each version of a file once per process,
+  // and a file rewritten in place within the clock's resolution could pass for the last one.
   InputFile(const std::uint8_t* data, std::size_t size, const char* suffix)
-      : path_("/tmp/pilelab-fuzz-" + std::to_string(::getpid()) + suffix) {
+      : path_("/tmp/pilelab-fuzz-" + std::to_string(::getpid()) + "-" + std::to_string(next_number()) + suffix) {
     std::ofstream(path_, std::ios::binary).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
   ~InputFile() { std::remove(path_.c_str()); }
   const std::string& path() const { return path_; }
 
  private:
+  static unsigned long next_number() {
+    static unsigned long n = 0;
+    return n++;
+  }
   std::string path_;
 };
 

@@ -2,6 +2,7 @@
 // pilelab did not write (h5py, meshio), report.json with every documented key; a second run
 // skips the unchanged stages.
 #include <cmath>
+#include <fstream>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,20 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
   std::stringstream s;
   s << log.rdbuf();
   EXPECT_EQ(status, 0) << s.str();
+#ifdef PILELAB_WITH_CONTINUUM
+  // The solve takes what the earlier stages measured where the scene sets nothing: the pile's
+  // angles (from the DEM, and said so), its bulk density and gravity (from coarse).
+  {
+    std::ifstream in(path("out/report.json"));
+    const auto report = nlohmann::json::parse(in);
+    const auto& fpa = report["continuum"]["fpa"];
+    EXPECT_EQ(fpa["repose_angle_source"], "dem");
+    EXPECT_EQ(fpa["left_repose_angle_deg"].get<double>(), report["dem"]["repose_angle_left_deg"].get<double>());
+    EXPECT_EQ(fpa["right_repose_angle_deg"].get<double>(), report["dem"]["repose_angle_right_deg"].get<double>());
+    EXPECT_EQ(report["continuum"]["density_kg_per_m2"].get<double>(), report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
+    EXPECT_EQ(report["continuum"]["gravity_m_per_s2"].get<double>(), report["coarse"]["gravity_m_per_s2"].get<double>());
+  }
+#endif
 
   const auto second = run("run " + scene + " -o " + out);
   ASSERT_EQ(second.exit_code, 0) << second.output;

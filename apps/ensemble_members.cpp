@@ -17,6 +17,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <toml++/toml.h>
+
 #include "apps/child_process.h"
 #include "apps/parallel.h"
 #include "common/atomic_file.h"
@@ -51,6 +53,18 @@ bool report_has_dem(const std::string& path) {
   }
 }
 
+// Whether the member's scene file holds the tables of text: compared as TOML, so that the
+// comment naming the ensemble's file (renamed, or a study's copy of it) cannot make an hour's
+// pour count as another scene's.
+bool same_member_scene(const std::string& scene_file, const std::string& text) {
+  if (!fs::exists(scene_file)) return false;
+  try {
+    return toml::parse_file(scene_file) == toml::parse(text);
+  } catch (const toml::parse_error&) {
+    return false;  // a damaged scene file: pour again
+  }
+}
+
 // Readies a member's directory and says what it needs. A member whose scene changed (another
 // [dem] table) starts afresh: its old pile and checkpoint belong to another scene.
 Member prepare_member(const std::string& scene_path, const std::string& out_dir, std::int64_t seed) {
@@ -63,7 +77,7 @@ Member prepare_member(const std::string& scene_path, const std::string& out_dir,
   std::error_code ec;
   fs::create_directories(m.dir, ec);
   if (ec) throw InputError(m.dir + ": cannot create the member's directory: " + ec.message());
-  const bool same_scene = fs::exists(m.scene_file) && read_text_file(m.scene_file) == text;
+  const bool same_scene = same_member_scene(m.scene_file, text);
   if (same_scene && fs::exists(fs::path(m.dir) / "dem.h5") && report_has_dem((fs::path(m.dir) / "report.json").string()))
     m.state = MemberState::poured;
   else if (same_scene && fs::exists(fs::path(m.dir) / "checkpoint.h5"))

@@ -108,12 +108,15 @@ struct Samples {
   std::map<std::string, std::vector<std::vector<double>>> per_pile;
 };
 
-// The quantities kept per pile in ensembles: what a stress-strain fit resamples over piles, and
-// what the comparison's jackknife re-averages (stresses, displacements, strains).
+// The quantities kept per pile in ensembles: what a stress-strain fit resamples over piles, what
+// the comparison's jackknife re-averages (stresses, displacements, strains), and the packing's
+// scalars, so that any statistic of the ensemble (a ratio, a position of a maximum) can be
+// recomputed pile by pile or with one pile left out.
 const std::vector<std::string> pile_quantities = {"stress_change_xx", "stress_change_yy", "stress_change_xy",
                                                   "strain_xx", "strain_yy", "strain_xy", "fabric_xx",
                                                   "fabric_yy", "fabric_xy", "pressure", "stress_xx",
-                                                  "stress_yy", "stress_xy", "displacement_x", "displacement_y"};
+                                                  "stress_yy", "stress_xy", "displacement_x", "displacement_y",
+                                                  "volume_fraction", "coordination", "grain_count"};
 
 void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
                bool with_stderr) {

@@ -13,6 +13,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gmsh libgmsh-dev libdeal.ii-dev
   python3 python3-numpy python3-matplotlib python3-h5py python3-meshio
+  # Optional for python/pilelab (Run.profiles_frame); docs/PYTHON.md's tour, tested, uses it.
+  python3-pandas
   # For the ParaView test (tests/scripts/paraview_pictures_test.sh): pvpython renders only
   # through an X display, so a virtual one.
   python3-paraview xvfb

@@ -153,6 +153,14 @@ TEST_F(Ensemble, AStoppedOrKilledMemberContinuesToTheSameFiles) {
   ASSERT_EQ(again.exit_code, 0) << again.output;
   for (int seed : seeds)
     EXPECT_NE(again.output.find("member " + std::to_string(seed) + " already poured"), std::string::npos) << again.output;
+  // Nor does the same ensemble under another file name (the member scene's comment names it).
+  const std::string renamed = path("renamed_ensemble.toml");
+  std::filesystem::copy_file(ensemble_scene, renamed);
+  const auto renamed_run = run("run " + renamed + " -o " + path("broken") + " -j 1");
+  ASSERT_EQ(renamed_run.exit_code, 0) << renamed_run.output;
+  for (int seed : seeds)
+    EXPECT_NE(renamed_run.output.find("member " + std::to_string(seed) + " already poured"), std::string::npos)
+        << renamed_run.output;
 }
 
 TEST_F(Ensemble, BadEnsembleTablesAreNamed) {

@@ -9,13 +9,13 @@ SCENE is the ensemble's scene (scenes/paper-symmetric.toml), STUDY_DIR its archi
 restored into OUT/members/, the scene is rewritten with `[ensemble] seeds = [...]` naming exactly
 those members (so nothing is poured), and `pilelab run` makes the mesh, the coarse fields, the
 continuum models and the comparison of that ensemble in OUT. Then the products go to
-STUDY_DIR/products/: fields.h5 repacked with compression, report.json, profiles.csv and
-rve_study.csv, some megabytes in all. studies/paper/tables.py needs nothing else.
+STUDY_DIR/products/: fields.h5 repacked with compression, report.json, profiles.csv.gz and
+rve_study.csv.gz, some megabytes in all. studies/paper/tables.py needs nothing else.
 """
 import argparse
 import os
 import re
-import shutil
+import gzip
 import subprocess
 import sys
 
@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 import study_members  # noqa: E402
 
-PRODUCTS = ("report.json", "profiles.csv", "rve_study.csv")
+PRODUCTS = ("report.json", "profiles.csv", "rve_study.csv")  # the CSVs gzipped
 
 
 def archived_seeds(study):
@@ -94,8 +94,12 @@ def main():
     os.makedirs(products, exist_ok=True)
     repack(os.path.join(args.out, "fields.h5"), os.path.join(products, "fields.h5"))
     for name in PRODUCTS:
-        shutil.copyfile(os.path.join(args.out, name), os.path.join(products, name + ".tmp"))
-        os.replace(os.path.join(products, name + ".tmp"), os.path.join(products, name))
+        target = os.path.join(products, name + (".gz" if name.endswith(".csv") else ""))
+        with open(os.path.join(args.out, name), "rb") as src:
+            data = src.read()
+        with open(target + ".tmp", "wb") as dst:
+            dst.write(gzip.compress(data, mtime=0) if target.endswith(".gz") else data)
+        os.replace(target + ".tmp", target)
     print(f"stages.py: products in {products}")
 
 

@@ -5,7 +5,8 @@
 OUT/figures/paraview_force_chains.png: the grains of the last frame coloured by their pressure,
 the contact network on top as tubes whose radius follows the normal force.
 OUT/figures/paraview_stress.png: the coarse-grained pressure on the mesh (fields.vtu) with the
-major compressive stress axes as glyphs scaled by their principal value.
+major compressive stress axes as lines of one length on a regular grid (the colour gives the
+magnitude).
 Either picture is skipped (with a line saying so) when its files are missing. For an ensemble
 the force chains are those of its first member.
 """
@@ -14,8 +15,9 @@ import os
 import sys
 import xml.etree.ElementTree as ET
 
-from paraview.simple import (CellDatatoPointData, ColorBy, ExtractSurface, GetActiveViewOrCreate, GetSources, Hide, GetColorTransferFunction,
-                             Glyph, SaveScreenshot, Show, Threshold, Tube, XMLUnstructuredGridReader)
+from paraview.simple import (CellDatatoPointData, ColorBy, ExtractSurface, GetActiveViewOrCreate, GetSources, Hide, GetColorTransferFunction, GetScalarBar,
+                             Glyph, ResampleToImage, SaveScreenshot, Show, Threshold, Tube,
+                             XMLUnstructuredGridReader)
 
 
 def last_frame(directory):
@@ -28,6 +30,13 @@ def last_frame(directory):
         frames.setdefault(float(d.get("timestep")), {})[d.get("part")] = os.path.join(directory, d.get("file"))
     last = frames[max(frames)]
     return last.get("0"), last.get("1")
+
+
+def dark_scalar_bar(array, view, title):
+    """The colour legend in black, readable on the white background."""
+    bar = GetScalarBar(GetColorTransferFunction(array), view)
+    bar.Title, bar.ComponentTitle = title, ""
+    bar.TitleColor = bar.LabelColor = [0.0, 0.0, 0.0]
 
 
 def view_2d(size):
@@ -85,6 +94,7 @@ def force_chains(out, directory, png):
     lut = GetColorTransferFunction("pressure")
     lut.ApplyPreset("Viridis (matplotlib)", True)
     g.SetScalarBarVisibility(view, True)
+    dark_scalar_bar("pressure", view, "grain pressure [N/m]")
     # A Tube needs lines as polydata with point scalars: surface first, then cell to point data
     # (feeding the unstructured grid straight to Tube is what crashed).
     contacts = XMLUnstructuredGridReader(FileName=[contacts_file])
@@ -111,19 +121,34 @@ def stress_field(out, png):
     ColorBy(m, ("POINTS", "pressure"))
     GetColorTransferFunction("pressure").ApplyPreset("Viridis (matplotlib)", True)
     m.SetScalarBarVisibility(view, True)
-    arrows = Glyph(Input=mesh, GlyphType="Line")
-    arrows.OrientationArray = ["POINTS", "stress_major_axis"]
-    arrows.ScaleArray = ["POINTS", "stress_major_axis"]
-    arrows.GlyphMode = "Every Nth Point"
-    arrows.Stride = 3
-    arrows.GlyphTransform.Translate = [-0.5, 0.0, 0.0]  # a line centred on its point: an axis
+    dark_scalar_bar("pressure", view, "pressure [N/m]")
+    # The axes on a regular grid of about 45 columns, each a line of one length (the colour
+    # beneath gives the magnitude): scaled by the principal value, the axes near the surface,
+    # where the stress vanishes, would not show, and glyphs on the mesh nodes crowd where the
+    # mesh is fine.
+    mesh.UpdatePipeline()
+    x0, x1, y0, y1, _, _ = mesh.GetDataInformation().GetBounds()
+    columns = 45
+    spacing = (x1 - x0) / columns
+    grid = ResampleToImage(Input=mesh)
+    grid.UseInputBounds = 0
+    # Half a spacing inside the bounds, so that no line crosses the base.
+    grid.SamplingBounds = [x0 + 0.5 * spacing, x1 - 0.5 * spacing, y0 + 0.5 * spacing, y1, 0.0, 0.0]
+    grid.SamplingDimensions = [columns, max(2, int(round((y1 - y0) / spacing))), 1]
+    inside = Threshold(Input=grid)  # grid points outside the pile have no data
+    inside.Scalars = ["POINTS", "vtkValidPointMask"]
     try:
-        bounds = mesh.GetDataInformation().GetBounds()
-        top = mesh.PointData["stress_major_axis"].GetRange(-1)[1]
-        arrows.ScaleFactor = 0.04 * (bounds[1] - bounds[0]) / max(top, 1e-30)
-    except Exception:  # noqa: BLE001 - keep ParaView's own scale
-        pass
+        inside.LowerThreshold, inside.UpperThreshold = 1, 1
+    except AttributeError:  # ParaView before 5.10
+        inside.ThresholdRange = [1, 1]
+    arrows = Glyph(Input=inside, GlyphType="Line")
+    arrows.OrientationArray = ["POINTS", "stress_major_axis"]
+    arrows.ScaleArray = ["POINTS", "No scale array"]
+    arrows.ScaleFactor = 0.8 * spacing
+    arrows.GlyphMode = "All Points"
+    arrows.GlyphTransform.Translate = [-0.5, 0.0, 0.0]  # a line centred on its point: an axis
     a = Show(arrows, view)
+    a.Position = [0.0, 0.0, 1e-3 * (x1 - x0)]  # in front of the surface, which they share z = 0 with
     a.ColorArrayName = [None, ""]
     a.AmbientColor = a.DiffuseColor = [0.1, 0.1, 0.1]
     return save(view, mesh, png)

@@ -1,0 +1,99 @@
+// The time step at 0.5, 1, 2 and 10 times the integrator's stability limit (ctest -L extremes;
+// docs/studies/extremes.md). The limit is the one `pilelab dem` states when it refuses a
+// larger step; the override (allow_unstable_time_step) runs the step anyway. At or below the
+// limit the explicit scheme is stable: the pour completes with every number finite, and at half
+// the limit no grain is lost. Above it, the run either completes with finite files (the grains
+// fly apart before a number overflows) or stops with exit 1 naming the first non-finite grain,
+// the time and the step; never a crash, a hang or a NaN in a file.
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "../cli/cli_test_support.h"
+
+using pilelab::test::CliTest;
+using pilelab::test::tiny_scene;
+
+namespace {
+
+std::string with_step(const std::string& scheme, const std::string& step_lines) {
+  std::string text = tiny_scene();
+  const std::string line = "scheme = \"verlet\"";
+  text.replace(text.find(line), line.size(), "scheme = \"" + scheme + "\"\n" + step_lines);
+  return text;
+}
+
+struct Case {
+  const char* scheme;
+  double factor;
+};
+
+}  // namespace
+
+class TimeStepExtremes : public CliTest, public ::testing::WithParamInterface<Case> {
+ protected:
+  // The limit the scene check names when it refuses a step far above it.
+  double stability_limit(const std::string& scheme) {
+    // (`pilelab dem` refuses it before pouring; `pilelab check` does not yet test the step.)
+    const auto refused = run("dem " + write_scene("refused.toml", with_step(scheme, "time_step_s = 1.0")) + " -o " +
+                             path("refused") + " -q");
+    EXPECT_NE(refused.exit_code, 0) << refused.output;
+    std::smatch m;
+    const std::regex limit("exceeds the stability limit ([0-9.eE+-]+) s");
+    if (!std::regex_search(refused.output, m, limit)) {
+      ADD_FAILURE() << "no stability limit in: " << refused.output;
+      return 0.0;
+    }
+    return std::stod(m[1]);
+  }
+
+  bool every_number_finite(const std::string& h5) {
+    const auto r = run("/usr/bin/python3 -c \"import h5py, numpy as np, sys; f = h5py.File('" + h5 +
+                           "'); bad = []; f.visititems(lambda n, o: bad.append(n) if isinstance(o, h5py.Dataset) and "
+                           "o.dtype.kind == 'f' and not np.isfinite(o[()]).all() else None); print(bad); "
+                           "sys.exit(1 if bad else 0)\"",
+                       "", /*prefix_binary=*/false);
+    return r.exit_code == 0;
+  }
+};
+
+TEST_P(TimeStepExtremes, RunsFiniteOrStopsNamingTheGrain) {
+  const Case c = GetParam();
+  const double limit = stability_limit(c.scheme);
+  ASSERT_GT(limit, 0.0);
+  char step[160];
+  std::snprintf(step, sizeof step, "time_step_s = %.9e\nallow_unstable_time_step = true", c.factor * limit);
+  const std::string scene = write_scene("scene.toml", with_step(c.scheme, step));
+  // `timeout` turns a hang into exit 124, which fails below like any other unexpected code.
+  const auto r = run("timeout 300 " + std::string(PILELAB_BINARY) + " dem " + scene + " -o " + path("out") + " -q -j 1",
+                     "", /*prefix_binary=*/false);
+  std::string outcome;
+  if (r.exit_code == 0) {
+    ASSERT_TRUE(every_number_finite(path("out/dem.h5"))) << "a NaN or infinity in dem.h5";
+    std::ifstream in(path("out/report.json"));
+    const auto report = nlohmann::json::parse(in);
+    const int lost = report["dem"]["lost"].get<int>();
+    outcome = "completed, " + std::to_string(lost) + " grains lost";
+    if (c.factor <= 0.5) EXPECT_EQ(lost, 0) << "half the limit is stable: no grain may leave";
+  } else {
+    EXPECT_GT(c.factor, 1.0) << "at or below the limit the run must complete: " << r.output;
+    EXPECT_EQ(r.exit_code, 1) << "a crash, a hang (124) or another failure: " << r.output;
+    EXPECT_NE(r.output.find("no longer finite"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("body "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("(step "), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(path("out/dem.h5"))) << "a stopped run leaves no dem.h5";
+    outcome = "stopped: " + r.output.substr(r.output.find("no longer finite"), 120);
+  }
+  // The table of docs/studies/extremes.md is read off these lines.
+  std::printf("EXTREMES time step %s x%g of %.3e s: %s\n", c.scheme, c.factor, limit, outcome.c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(Factors, TimeStepExtremes,
+                         ::testing::Values(Case{"verlet", 0.5}, Case{"verlet", 1.0}, Case{"verlet", 2.0},
+                                           Case{"verlet", 10.0}, Case{"leapfrog", 0.5}, Case{"leapfrog", 1.0},
+                                           Case{"leapfrog", 2.0}, Case{"leapfrog", 10.0}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           std::string name = std::string(info.param.scheme) + "_x" +
+                                              std::to_string(static_cast<int>(info.param.factor * 10));
+                           return name;
+                         });

@@ -52,6 +52,11 @@ class Fields:
     def pile_values(self, pile, quantity):
         return self._piles[pile][quantity]
 
+    @property
+    def piles(self):
+        """Ensembles: pile index -> {quantity: that pile's own values} (empty for one pile)."""
+        return self._piles
+
     def triangulation(self):
         """A matplotlib Triangulation of the mesh (for tripcolor, tricontour)."""
         import matplotlib.tri as mtri

@@ -25,22 +25,20 @@ import os
 import re
 import sys
 
-import h5py
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+import pilelab  # noqa: E402
 
 
 class Ensemble:
     """Each pile's fields at the mesh points, and statistics of their mean with jackknife errors."""
 
     def __init__(self, products):
-        with h5py.File(os.path.join(products, "fields.h5"), "r") as f:
-            self.attrs = dict(f.attrs)
-            self.points = f["fields/points"][()]
-            nodes = f["mesh/nodes"][()]
-            self.piles = {int(k): {q: f["piles"][k][q][()] for q in f["piles"][k]} for k in f["piles"]}
+        fields = pilelab.Fields(os.path.join(products, "fields.h5"))
+        self.attrs, self.points, nodes, self.piles = fields.attrs, fields.points, fields.nodes, fields.piles
         with open(os.path.join(products, "report.json"), encoding="utf-8") as f:
             self.report = json.load(f)
         self.n = len(self.piles)

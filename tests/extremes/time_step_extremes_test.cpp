@@ -1,5 +1,5 @@
 // The time step at 0.5, 1, 2 and 10 times the integrator's stability limit (ctest -L extremes;
-// docs/studies/extremes.md). The limit is the one `pilelab dem` states when it refuses a
+// docs/studies/extremes.md). The limit is the one `pilelab check` states when it refuses a
 // larger step; the override (allow_unstable_time_step) runs the step anyway. At or below the
 // limit the explicit scheme is stable: the pour completes with every number finite, and at half
 // the limit no grain is lost. Above it, the run either completes with finite files (the grains
@@ -34,9 +34,7 @@ class TimeStepExtremes : public CliTest, public ::testing::WithParamInterface<Ca
  protected:
   // The limit the scene check names when it refuses a step far above it.
   double stability_limit(const std::string& scheme) {
-    // (`pilelab dem` refuses it before pouring; `pilelab check` does not yet test the step.)
-    const auto refused = run("dem " + write_scene("refused.toml", with_step(scheme, "time_step_s = 1.0")) + " -o " +
-                             path("refused") + " -q");
+    const auto refused = run("check " + write_scene("refused.toml", with_step(scheme, "time_step_s = 1.0")));
     EXPECT_NE(refused.exit_code, 0) << refused.output;
     std::smatch m;
     const std::regex limit("exceeds the stability limit ([0-9.eE+-]+) s");
@@ -74,7 +72,9 @@ TEST_P(TimeStepExtremes, RunsFiniteOrStopsNamingTheGrain) {
     const auto report = nlohmann::json::parse(in);
     const int lost = report["dem"]["lost"].get<int>();
     outcome = "completed, " + std::to_string(lost) + " grains lost";
-    if (c.factor <= 0.5) EXPECT_EQ(lost, 0) << "half the limit is stable: no grain may leave";
+    if (c.factor <= 0.5) {
+      EXPECT_EQ(lost, 0) << "half the limit is stable: no grain may leave";
+    }
   } else {
     EXPECT_GT(c.factor, 1.0) << "at or below the limit the run must complete: " << r.output;
     EXPECT_EQ(r.exit_code, 1) << "a crash, a hang (124) or another failure: " << r.output;

@@ -426,7 +426,8 @@ def figures(e, products, outdir):
             ax.set_xlabel("x (m)")
             ax.set_ylabel(label)
         axes[0][0].legend(fontsize=6, ncol=2)
-        fig.suptitle(f"{name.split('_', 1)[0].replace('fig', 'Fig. ')}: {e.n} symmetric piles, mean ± 1 SE")
+        bands = "mean ± 1 SE" if name != "fig15_misalignment" else "mean (profiles.csv gives these angles no SE)"
+        fig.suptitle(f"{name.split('_', 1)[0].replace('fig', 'Fig. ')}: {e.n} symmetric piles, {bands}")
         fig.tight_layout()
         path = os.path.join(outdir, name + ".png")
         fig.savefig(path + ".tmp.png", dpi=110)

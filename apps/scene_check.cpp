@@ -28,7 +28,7 @@ std::vector<std::string> check_scene(const std::string& path) {
   if (reader.has("dem")) {
     const dem::DemScene scene = dem::read_dem_scene(reader);
     // An explicit step is tested against the stability limit of the scene's own grains, which
-    // only drawing them gives (milliseconds for a paper pile): the refusal `pilelab dem` gives.
+    // only drawing them gives (about 2 s for a paper pile): the refusal `pilelab dem` gives.
     if (scene.time_step > 0.0) dem::PileProtocol(scene, path);
     found.push_back("dem");
   }

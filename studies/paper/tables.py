@@ -18,12 +18,14 @@ radii below it (for the density: nearer the flank, a member's own surface stands
 the mean wedge and grain area over RVE-in-mesh area is no volume fraction).
 """
 import argparse
+import contextlib
 import csv
 import gzip
 import json
 import os
 import re
 import sys
+import warnings
 
 import numpy as np
 
@@ -78,10 +80,15 @@ class Ensemble:
         return np.abs(self.yh - y_over_h) < half
 
     def mean_fields(self, piles):
-        """Q -> the mean over the given piles (NaN where none has data)."""
-        stack = lambda q: np.array([self.piles[k][q] for k in piles])  # noqa: E731
-        with np.errstate(invalid="ignore"), _quiet():
-            return {q: np.nanmean(stack(q), axis=0) for q in self.piles[piles[0]]}
+        """Q -> the mean over the given piles (NaN where none has data); computed once per set
+        of piles (every row's jackknife uses the same n + 1 sets)."""
+        key = tuple(piles)
+        cache = self.__dict__.setdefault("_means", {})
+        if key not in cache:
+            stack = lambda q: np.array([self.piles[k][q] for k in piles])  # noqa: E731
+            with _quiet():
+                cache[key] = {q: np.nanmean(stack(q), axis=0) for q in self.piles[piles[0]]}
+        return cache[key]
 
     def statistic(self, function):
         """function(Fields) -> float or tuple of floats; returns (value, stderr) arrays."""
@@ -95,15 +102,12 @@ class Ensemble:
         return full, se
 
 
-class _quiet:
-    def __enter__(self):
-        import warnings
-        self._w = warnings.catch_warnings()
-        self._w.__enter__()
+@contextlib.contextmanager
+def _quiet():
+    """Means of empty selections are NaN by design here: no RuntimeWarning for them."""
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-
-    def __exit__(self, *a):
-        self._w.__exit__(*a)
+        yield
 
 
 class Fields:
@@ -118,7 +122,8 @@ class Fields:
     def axes(self, kind):
         """Principal axes of the mean tensor: (anisotropy, tilt of the major axis from the
         vertical in degrees, counter-clockwise positive). Stress: compression positive;
-        strain: the eigenvalue of largest magnitude is the major one (as coarse/ defines them)."""
+        strain: the eigenvalue of largest magnitude is the major one (as coarse/ defines them);
+        fabric: positive definite, so its anisotropy is the deviatoric fraction radius / mean."""
         sign = -1.0 if kind == "stress" else 1.0
         xx, yy, xy = (sign * self.v[f"{kind}_{c}"] for c in ("xx", "yy", "xy"))
         mean, radius = 0.5 * (xx + yy), np.hypot(0.5 * (xx - yy), xy)
@@ -215,15 +220,9 @@ def findings(e):
     v, s = stat(lambda F: F.mean(F["fabric_xx"] + F["fabric_yy"], base_axis) / F.mean(F["fabric_xx"] + F["fabric_yy"], top_axis) - 1)
     row("fabric trace on the axis: y < 0.2 h over 0.5-0.7 h, minus 1", "> 0 (rises towards the base)", v[0], s[0], sign(True), 3)
 
-    def fabric_axes(F):
-        xx, yy, xy = F["fabric_xx"], F["fabric_yy"], F["fabric_xy"]
-        mean, radius = 0.5 * (xx + yy), np.hypot(0.5 * (xx - yy), xy)
-        theta = 0.5 * np.degrees(np.arctan2(2 * xy, xx - yy))
-        return radius / np.where(mean > 0, mean, np.nan), (theta - 90.0 + 90.0) % 180.0 - 90.0
-
-    v, s = stat(lambda F: F.mean(fabric_axes(F)[0], e.core()) - F.mean(fabric_axes(F)[0], e.flanks()))
+    v, s = stat(lambda F: F.mean(F.axes("fabric")[0], e.core()) - F.mean(F.axes("fabric")[0], e.flanks()))
     row("fabric deviatoric fraction: core minus flanks", "< 0 (lowest at the centre)", v[0], s[0], sign(False), 3)
-    v, s = stat(lambda F: (F.mean(fabric_axes(F)[1], e.flanks(-1)), F.mean(fabric_axes(F)[1], e.flanks(1))))
+    v, s = stat(lambda F: (F.mean(F.axes("fabric")[1], e.flanks(-1)), F.mean(F.axes("fabric")[1], e.flanks(1))))
     rows.append(("fabric major axis, tilt from the vertical on the left / right flank (deg)", "-40 / +40 (\"to the horizontal\")",
                  f"{fmt(v[0], s[0], 1)} / {fmt(v[1], s[1], 1)}", "see the note on orientations"))
 
@@ -307,7 +306,7 @@ def findings(e):
     # Non-collinearity (Fig. 15).
     pile = e.yh < 0.9
     def misalign(F):
-        ts, tf, te = F.axes("stress")[1], fabric_axes(F)[1], F.axes("strain")[1]
+        ts, tf, te = F.axes("stress")[1], F.axes("fabric")[1], F.axes("strain")[1]
         return (F.mean(angle_between_axes(ts, te), pile), F.mean(angle_between_axes(ts, tf), pile),
                 F.mean(angle_between_axes(te, tf), pile))
     v, s = stat(misalign)
@@ -315,7 +314,7 @@ def findings(e):
                  " / ".join(fmt(a, b, 1) for a, b in zip(v, s)),
                  "not collinear (each beyond 2 SE)" if np.all(v > 2 * s) else "partly collinear"))
     def mean_abs_tilts(F):
-        return tuple(F.mean(np.abs(t), e.flanks()) for t in (F.axes("stress")[1], F.axes("strain")[1], fabric_axes(F)[1]))
+        return tuple(F.mean(np.abs(t), e.flanks()) for t in (F.axes("stress")[1], F.axes("strain")[1], F.axes("fabric")[1]))
     v, s = stat(mean_abs_tilts)
     most = ["stress", "strain", "fabric"][int(np.argmax(v))]
     rows.append(("mean |tilt| on the flanks: stress / strain / fabric (deg)", "fabric most (conclusions)",

@@ -52,6 +52,15 @@ class CliTest : public ::testing::Test {
     s << in.rdbuf();
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, s.str()};
   }
+  // Whether every floating-point dataset of the HDF5 file h5 is finite (no NaN, no infinity).
+  bool every_number_finite(const std::string& h5) const {
+    const auto r = run("/usr/bin/python3 -c \"import h5py, numpy as np, sys; f = h5py.File('" + h5 +
+                           "'); bad = []; f.visititems(lambda n, o: bad.append(n) if isinstance(o, h5py.Dataset) and "
+                           "o.dtype.kind == 'f' and not np.isfinite(o[()]).all() else None); print(bad); "
+                           "sys.exit(1 if bad else 0)\"",
+                       "", /*prefix_binary=*/false);
+    return r.exit_code == 0;
+  }
   std::filesystem::path dir_;
 };
 

@@ -44,15 +44,6 @@ class TimeStepExtremes : public CliTest, public ::testing::WithParamInterface<Ca
     }
     return std::stod(m[1]);
   }
-
-  bool every_number_finite(const std::string& h5) {
-    const auto r = run("/usr/bin/python3 -c \"import h5py, numpy as np, sys; f = h5py.File('" + h5 +
-                           "'); bad = []; f.visititems(lambda n, o: bad.append(n) if isinstance(o, h5py.Dataset) and "
-                           "o.dtype.kind == 'f' and not np.isfinite(o[()]).all() else None); print(bad); "
-                           "sys.exit(1 if bad else 0)\"",
-                       "", /*prefix_binary=*/false);
-    return r.exit_code == 0;
-  }
 };
 
 TEST_P(TimeStepExtremes, RunsFiniteOrStopsNamingTheGrain) {

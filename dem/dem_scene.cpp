@@ -62,6 +62,8 @@ DemScene read_dem_scene(SceneReader& r) {
   GrainSpec& g = s.grains;
   const std::string shape = r.get_choice("dem.grains.shape", "polygon", {"polygon", "disc"});
   g.kind = shape == "disc" ? ShapeKind::disc : ShapeKind::polygon;
+  const std::string outline = r.get_choice("dem.grains.outline", "ellipse", {"ellipse", "circle"});
+  g.outline = outline == "circle" ? GrainOutline::circle : GrainOutline::ellipse;
   g.corners_min = static_cast<int>(r.get_int("dem.grains.corners_min", g.corners_min, 3, 64));
   g.corners_max = static_cast<int>(r.get_int("dem.grains.corners_max", g.corners_max, 3, 64));
   if (g.corners_max < g.corners_min)

@@ -10,7 +10,8 @@ namespace pilelab::dem {
 Shape random_grain(const GrainSpec& spec, Rng& rng) {
   const double lo = spec.smallest_diameter(), hi = spec.largest_diameter();
   if (spec.kind == ShapeKind::disc) return make_disc(0.5 * rng.uniform(lo, hi));
-  const double semi_a = 0.5 * rng.uniform(lo, hi), semi_b = 0.5 * rng.uniform(lo, hi);
+  const double semi_a = 0.5 * rng.uniform(lo, hi);
+  const double semi_b = spec.outline == GrainOutline::circle ? semi_a : 0.5 * rng.uniform(lo, hi);
   const int n = rng.uniform_int(spec.corners_min, spec.corners_max);
   std::vector<Vec2> corners(n);
   for (int k = 0; k < n; ++k) {

@@ -1,18 +1,27 @@
 #pragma once
-// Random grains as in the paper (section 2): convex polygons whose corners lie on an ellipse
-// with independently drawn axes, or discs.
+// Random grains as in the paper: convex polygons whose corners lie on an ellipse with
+// independently drawn axes (section 2), or on a circle of drawn diameter ("round particles",
+// section 5), or discs.
 #include "common/rng.h"
 #include "dem/shape.h"
 
 namespace pilelab::dem {
 
+/// The curve a polygon's corners are placed on.
+enum class GrainOutline {
+  ellipse,  ///< two axes drawn independently: elongated grains (paper section 2)
+  circle,   ///< one diameter drawn: round grains of many sizes (paper section 5)
+};
+
 struct GrainSpec {
   ShapeKind kind = ShapeKind::polygon;
+  GrainOutline outline = GrainOutline::ellipse;
   int corners_min = 6;            ///< paper: 6
   int corners_max = 8;            ///< paper: 8
   double mean_diameter = 6.8e-3;  ///< mean ellipse axis (disc diameter) [m]
-  /// Largest relative deviation of a size from the mean: each axis (disc diameter) is drawn
-  /// uniformly from mean * [1 - p, 1 + p], so ellipses reach an aspect ratio (1 + p) / (1 - p).
+  /// Largest relative deviation of a size from the mean: each axis (the circle's or disc's
+  /// diameter) is drawn uniformly from mean * [1 - p, 1 + p], so ellipses reach an aspect ratio
+  /// (1 + p) / (1 - p).
   /// Paper: 0.3 ("a degree of poly-dispersity of about 30 %"). 0 gives a monodisperse mixture
   /// (polygons then still differ in their corner positions).
   double polydispersity = 0.3;

@@ -83,3 +83,27 @@ TEST(GrainGenerator, DiscDiametersSpanThePolydispersityInterval) {
   EXPECT_LE(lo - spec.smallest_diameter(), 10.0 * width / grains);
   EXPECT_LE(spec.largest_diameter() - hi, 10.0 * width / grains);
 }
+
+// Round grains (paper section 5): the ellipse fit through the corners has equal axes, and the
+// diameters are uniform on mean * [1 - p, 1 + p] (mean within 5 standard errors).
+TEST(GrainGenerator, RoundPolygonsHaveCornersOnACircleOfDrawnDiameter) {
+  GrainSpec spec;
+  spec.outline = GrainOutline::circle;
+  spec.polydispersity = 0.25;
+  Rng rng(11);
+  const int grains = 4000;
+  double sum = 0.0;
+  for (int i = 0; i < grains; ++i) {
+    const Shape s = random_grain(spec, rng);
+    ASSERT_EQ(s.kind, ShapeKind::polygon);
+    const EllipseFit e = fit_axis_aligned_ellipse(s.vertices);
+    ASSERT_LT(e.residual, 1e-9) << "corners of grain " << i << " are not on one circle";
+    ASSERT_NEAR(e.semi_x, e.semi_y, 1e-9 * spec.mean_diameter) << "grain " << i << " is not round";
+    const double diameter = e.semi_x + e.semi_y;
+    EXPECT_GE(diameter, spec.smallest_diameter() * (1.0 - 1e-9));
+    EXPECT_LE(diameter, spec.largest_diameter() * (1.0 + 1e-9));
+    sum += diameter;
+  }
+  const double sigma = (spec.largest_diameter() - spec.smallest_diameter()) / std::sqrt(12.0);
+  EXPECT_NEAR(sum / grains, spec.mean_diameter, 5.0 * sigma / std::sqrt(grains));
+}

@@ -47,6 +47,7 @@ struct RunOptions {
   bool force = false;
   bool quiet = false;
   bool restart = false;  ///< the DEM continues from OUT/checkpoint.h5 (members always continue from theirs)
+  bool figures = true;   ///< scripts/figures.py after the stages
   int threads = 0;
   int processes = 1;     ///< ensemble members poured side by side as processes
 };
@@ -437,7 +438,7 @@ void run_pipeline(const RunOptions& opt) {
   // Figures from whatever ran (Debian's python3 with matplotlib and h5py).
   const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
   // A child that dies with this process: a killed run leaves no script writing into OUT.
-  if (root && std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
+  if (root && opt.figures && std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
     const int code = wait_for_child(start_child({"/usr/bin/python3", script, opt.out_dir}, opt.quiet ? "/dev/null" : ""));
     if (code != 0)
       throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
@@ -466,6 +467,8 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--restart", opt->restart,
                 "The DEM continues from OUT/checkpoint.h5 where one is left (ensemble members always continue from theirs)");
+  cmd->add_flag("!--no-figures", opt->figures,
+                "No figures after the stages (scripts/figures.py): where a study makes its own, or matplotlib is missing");
   cmd->final_callback([opt] { run_pipeline(*opt); });
 }
 

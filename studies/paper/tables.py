@@ -1,12 +1,16 @@
 #!/usr/bin/python3
-"""The paper study's table and figures, from the committed products alone (no pouring, no
-pilelab binary): docs/studies/paper.md's table between its markers, and the PNGs in
+"""The paper study's tables and figures, from the committed products alone (no pouring, no
+pilelab binary): docs/studies/paper.md's tables between its markers, and the PNGs in
 docs/studies/paper/.
 
-    /usr/bin/python3 studies/paper/tables.py [STUDY_DIR] [--doc docs/studies/paper.md]
+    /usr/bin/python3 studies/paper/tables.py [ROOT] [--doc docs/studies/paper.md] [--figures DIR]
 
-STUDY_DIR (docs/studies/paper/symmetric) holds products/ from studies/paper/stages.py:
-fields.h5 with every pile's own fields (/piles/K), report.json, profiles.csv.gz.
+ROOT (docs/studies/paper) holds a folder per ensemble (symmetric, asymmetric, monodisperse),
+each with the products of studies/paper/stages.py: products/ (fields.h5 with every pile's own
+fields in /piles/K, report.json, profiles.csv.gz, rve_study.csv.gz, scene.toml), and where they
+were made, products_rve_study/ (the RVE of the size the RVE study chooses) and
+products_smooth_base/ (elasticity on a smooth base). An ensemble without products is listed
+as not yet measured.
 
 Every number of the table is a statistic of the ensemble mean fields, and its standard error is
 the jackknife over piles: the statistic recomputed with each pile left out (the mean fields
@@ -38,7 +42,8 @@ import pilelab  # noqa: E402
 class Ensemble:
     """Each pile's fields at the mesh points, and statistics of their mean with jackknife errors."""
 
-    def __init__(self, products):
+    def __init__(self, products, kind="symmetric"):
+        self.kind = kind
         fields = pilelab.Fields(os.path.join(products, "fields.h5"))
         self.attrs, self.points, nodes, self.piles = fields.attrs, fields.points, fields.nodes, fields.piles
         with open(os.path.join(products, "report.json"), encoding="utf-8") as f:
@@ -168,188 +173,300 @@ def fmt(value, se, digits=2):
     return f"{value:.{digits}f} ± {se:.{digits}f}"
 
 
-def findings(e):
-    """The table's rows: (finding, paper, ours, verdict)."""
-    rows = []
-    ens = e.report["ensemble"]
+# --- The rows -------------------------------------------------------------------------------
+# Each row is (finding, paper, ours, verdict); `ours` holds every number with its standard error.
 
-    def stat(function):
-        v, s = e.statistic(function)
+def near(target, tol=0.0):
+    """Agrees when the paper's value (which carries no error) lies within 2 SE (plus the
+    precision to which the paper states it) of ours."""
+    return lambda v, s: "agrees within errors" if abs(v - target) <= 2 * s + tol else (
+        "differs" + (f" ({(v - target) / s:+.1f} SE)" if s > 0 else ""))
+
+
+def sign(expected_positive):
+    return lambda v, s: ("agrees (beyond 2 SE)" if (v > 2 * s if expected_positive else v < -2 * s)
+                         else "within 2 SE of none: not resolved" if abs(v) <= 2 * s else "opposite sign")
+
+
+def no_verdict(text):
+    return lambda v, s: text
+
+
+class Rows(list):
+    """The rows of one ensemble's table, built from statistics of its mean fields."""
+
+    def __init__(self, e):
+        super().__init__()
+        self.e = e
+
+    def add(self, finding, paper, function, verdict, digits=2, note="", shift=0.0):
+        """One number: function(Fields) -> float, shown minus `shift`."""
+        v, s = self.e.statistic(function)
+        text = verdict(v[0] - shift, s[0]) + (f"; {note}" if note else "")
+        self.append((finding, paper, fmt(v[0] - shift, s[0], digits), text))
+        return v[0], s[0]
+
+    def add_many(self, finding, paper, function, verdict, digits=1):
+        """Several numbers in one cell: function(Fields) -> tuple; verdict(values, errors)."""
+        v, s = self.e.statistic(function)
+        self.append((finding, paper, " / ".join(fmt(a, b, digits) for a, b in zip(v, s)), verdict(v, s)))
         return v, s
 
-    def row(finding, paper, value, se, verdict_fn, digits=2, note=""):
-        ours = fmt(value, se, digits)
-        rows.append((finding, paper, ours, verdict_fn(value, se) + (f"; {note}" if note else "")))
+    def repose(self, targets, paper):
+        ens = self.e.report["ensemble"]
+        for side, name in (("left", "left"), ("right", "right"), ("pile_mean", "mean of both flanks")):
+            s = ens[f"repose_angle_{side}_deg"]
+            target = targets.get(side)
+            verdict = near(target, 0.5) if target is not None else no_verdict("-")
+            self.append((f"repose angle, {name} (deg)", paper.get(side, "not given"), fmt(s["mean"], s["standard_error"], 1),
+                         verdict(s["mean"], s["standard_error"]) + "; SE over the piles' own angles"))
 
-    def near(target, tol=0.0):
-        # Agrees when the paper's value (which carries no error) lies within 2 SE (+ the paper's
-        # own reading tolerance) of ours.
-        return lambda v, s: "agrees within errors" if abs(v - target) <= 2 * s + tol else (
-            "differs" + (f" ({(v - target) / s:+.1f} SE)" if s > 0 else ""))
+    def base_dips(self, heights, under="the axis"):
+        for y in heights:
+            v, s = self.e.statistic(centre_over_max(y))
+            self.append((f"sigma_yy under {under} over its maximum, y = {y:g} h", "< 1 (a dip) up to some height" if y else "< 1 (the dip)",
+                         fmt(v[0], s[0], 3), "dip (beyond 2 SE)" if v[0] < 1 - 2 * s[0] else "no dip resolved"))
 
-    def sign(expected_positive):
-        return lambda v, s: ("agrees (beyond 2 SE)" if (v > 2 * s if expected_positive else v < -2 * s)
-                             else "within 2 SE of none: not resolved" if abs(v) <= 2 * s else "opposite sign")
+    def coordination(self):
+        e = self.e
+        self.add_many("coordination number: core / flanks", "not given",
+                      lambda F: (F.mean(F["coordination"], e.core()), F.mean(F["coordination"], e.flanks())),
+                      lambda v, s: "-", 2)
 
-    # Repose angles.
-    for side, name in (("left", "left"), ("right", "right"), ("pile_mean", "mean of both flanks")):
-        s = ens[f"repose_angle_{side}_deg"]
-        row(f"repose angle, {name} (deg)", "about 28", s["mean"], s["standard_error"], near(28.0, 0.5), 1,
-            "SE over the piles' own angles")
+    def fabric_scatter(self):
+        """How closely tr F follows nu C: the relative sd of their ratio over the interior."""
+        e = self.e
+        return self.add("scatter of tr F / (nu C) over points > 1 RVE radius deep (relative sd)",
+                        "mono: on one line (Fig. 16A); poly: not (Fig. 16B)", lambda F: ratio_scatter(F, e), no_verdict("-"), 4)
+
+
+def centre_over_max(y):
+    def f(F):
+        x, p = F.profile(-F["stress_yy"], y)
+        with _quiet():
+            return np.nanmean(p[np.abs(x) < 0.05]) / np.nanmax(p[np.abs(x) < 0.8])
+    return f
+
+
+def x_of_extreme(q, y, find_max=True, side=0):
+    """x' of the profile's extreme at height y (|x'| < 0.8; one side only if side is -1 or 1)."""
+    def f(F):
+        x, p = F.profile(F[q] if isinstance(q, str) else q(F), y)
+        inner = (np.abs(x) < 0.8) & ((np.sign(x) == side) if side else True)
+        p = np.where(inner & np.isfinite(p), p, -np.inf if find_max else np.inf)
+        return x[np.argmax(p) if find_max else np.argmin(p)]
+    return f
+
+
+def x_of_dip(y):
+    """x' of the lowest sigma_yy between its maxima on the two sides at height y."""
+    def f(F):
+        x, p = F.profile(-F["stress_yy"], y)
+        left = np.where((x < 0) & (x > -0.6) & np.isfinite(p), p, -np.inf)
+        right = np.where((x > 0) & (x < 0.6) & np.isfinite(p), p, -np.inf)
+        lo, hi = x[np.argmax(left)], x[np.argmax(right)]
+        between = np.where((x >= lo) & (x <= hi) & np.isfinite(p), p, np.inf)
+        return x[np.argmin(between)]
+    return f
+
+
+def trace_and_nu_c(F, e):
+    tr, vc = F["fabric_xx"] + F["fabric_yy"], F["volume_fraction"] * F["coordination"]
+    ok = np.isfinite(tr) & np.isfinite(vc) & e.interior()
+    return tr[ok], vc[ok]
+
+
+def g2_slope(F, e):
+    """tr F / (nu C) by least squares through the origin (eq. 23)."""
+    tr, vc = trace_and_nu_c(F, e)
+    return float(np.sum(tr * vc) / np.sum(vc ** 2))
+
+
+def ratio_scatter(F, e):
+    tr, vc = trace_and_nu_c(F, e)
+    ratio = tr / vc
+    return float(np.std(ratio) / np.mean(ratio))
+
+
+def symmetric_rows(e):
+    r = Rows(e)
+    r.repose({"left": 28.0, "right": 28.0, "pile_mean": 28.0},
+             {"left": "about 28", "right": "about 28", "pile_mean": "about 28"})
 
     # Density (Fig. 7).
-    v, s = stat(lambda F: F.mean(F["volume_fraction"], e.core()) / F.mean(F["volume_fraction"], e.outer_layer()) - 1)
-    row("density: core over the outer layer (1-2 RVE radii deep), minus 1", "0.08-0.10", v[0], s[0], near(0.09, 0.01), 3)
-
-    def x_of_extreme(q, y, find_max=True):
-        def f(F):
-            x, p = F.profile(F[q] if isinstance(q, str) else q(F), y)
-            inner = np.abs(x) < 0.8
-            p = np.where(inner & np.isfinite(p), p, -np.inf if find_max else np.inf)
-            return x[np.argmax(p) if find_max else np.argmin(p)]
-        return f
-
-    v, s = stat(x_of_extreme("volume_fraction", 0.1))
-    row("density: x'/R of its maximum at y = 0.1 h", "0 (the centre)", v[0], s[0], near(0.0, 0.05), 2)
+    r.add("density: core over the outer layer (1-2 RVE radii deep), minus 1", "0.08-0.10",
+          lambda F: F.mean(F["volume_fraction"], e.core()) / F.mean(F["volume_fraction"], e.outer_layer()) - 1, near(0.09, 0.01), 3)
+    r.add("density: x'/R of its maximum at y = 0.1 h", "0 (the centre)", x_of_extreme("volume_fraction", 0.1), near(0.0, 0.05))
 
     # Fabric (Fig. 8).
-    v, s = stat(lambda F: F.mean(F["fabric_xx"] + F["fabric_yy"], e.core()) / F.mean(F["fabric_xx"] + F["fabric_yy"], e.flanks()) - 1)
-    row("fabric trace: core over flanks, minus 1", "> 0 (rises towards the centre)", v[0], s[0], sign(True), 3)
+    trace = lambda F: F["fabric_xx"] + F["fabric_yy"]  # noqa: E731
+    r.add("fabric trace: core over flanks, minus 1", "> 0 (rises towards the centre)",
+          lambda F: F.mean(trace(F), e.core()) / F.mean(trace(F), e.flanks()) - 1, sign(True), 3)
     base_axis = (np.abs(e.xr) < 0.15) & (e.yh > 0.05) & (e.yh < 0.2)
     top_axis = (np.abs(e.xr) < 0.15) & (e.yh > 0.5) & (e.yh < 0.7)
-    v, s = stat(lambda F: F.mean(F["fabric_xx"] + F["fabric_yy"], base_axis) / F.mean(F["fabric_xx"] + F["fabric_yy"], top_axis) - 1)
-    row("fabric trace on the axis: y < 0.2 h over 0.5-0.7 h, minus 1", "> 0 (rises towards the base)", v[0], s[0], sign(True), 3)
-
-    v, s = stat(lambda F: F.mean(F.axes("fabric")[0], e.core()) - F.mean(F.axes("fabric")[0], e.flanks()))
-    row("fabric deviatoric fraction: core minus flanks", "< 0 (lowest at the centre)", v[0], s[0], sign(False), 3)
-    v, s = stat(lambda F: (F.mean(F.axes("fabric")[1], e.flanks(-1)), F.mean(F.axes("fabric")[1], e.flanks(1))))
-    rows.append(("fabric major axis, tilt from the vertical on the left / right flank (deg)", "-40 / +40 (\"to the horizontal\")",
-                 f"{fmt(v[0], s[0], 1)} / {fmt(v[1], s[1], 1)}", "see the note on orientations"))
+    r.add("fabric trace on the axis: y < 0.2 h over 0.5-0.7 h, minus 1", "> 0 (rises towards the base)",
+          lambda F: F.mean(trace(F), base_axis) / F.mean(trace(F), top_axis) - 1, sign(True), 3)
+    r.add("fabric deviatoric fraction: core minus flanks", "< 0 (lowest at the centre)",
+          lambda F: F.mean(F.axes("fabric")[0], e.core()) - F.mean(F.axes("fabric")[0], e.flanks()), sign(False), 3)
+    r.add_many("fabric major axis, tilt from the vertical on the left / right flank (deg)", "-40 / +40 (\"to the horizontal\")",
+               lambda F: (F.mean(F.axes("fabric")[1], e.flanks(-1)), F.mean(F.axes("fabric")[1], e.flanks(1))),
+               lambda v, s: "see the note on orientations")
 
     # Stress (Fig. 9).
-    def centre_over_max(y):
-        def f(F):
-            x, p = F.profile(-F["stress_yy"], y)
-            centre = np.nanmean(p[np.abs(x) < 0.05])
-            return centre / np.nanmax(p[np.abs(x) < 0.8])
-        return f
-
-    for y in (0.0, 0.1, 0.2, 0.3, 0.5):
-        v, s = stat(centre_over_max(y))
-        rows.append((f"sigma_yy at the axis over its maximum, y = {y:g} h", "< 1 (a dip) up to some height" if y else "< 1 (the dip)",
-                     fmt(v[0], s[0], 3), "dip (beyond 2 SE)" if v[0] < 1 - 2 * s[0] else "no dip resolved"))
-    v, s = stat(x_of_extreme(lambda F: -F["stress_yy"], 0.0))
-    row("x'/R of the sigma_yy maximum at the base (left side < 0)", "not given (Fig. 9A: about ±0.3)", v[0], s[0],
-        lambda v_, s_: "compare with Fig. 9A", 2)
-    def x_of_dip(y):
-        def f(F):
-            x, p = F.profile(-F["stress_yy"], y)
-            p = np.where(np.isfinite(p), p, np.nan)
-            left = np.where(x < 0, np.where(x > -0.6, p, -np.inf), -np.inf)
-            right = np.where(x > 0, np.where(x < 0.6, p, -np.inf), -np.inf)
-            lo, hi = x[np.nanargmax(left)], x[np.nanargmax(right)]
-            between = np.where((x >= lo) & (x <= hi) & np.isfinite(p), p, np.inf)
-            return x[np.argmin(between)]
-        return f
-
-    v, s = stat(x_of_dip(0.1))
-    row("x'/R of the sigma_yy minimum between its two maxima at y = 0.1 h", "at the density maximum (the centre)",
-        v[0], s[0], near(0.0, 0.05), 2)
-
+    r.base_dips((0.0, 0.1, 0.2, 0.3, 0.5))
+    r.add("x'/R of the sigma_yy maximum at the base (left side < 0)", "not given (Fig. 9A: about ±0.3)",
+          x_of_extreme(lambda F: -F["stress_yy"], 0.0), no_verdict("compare with Fig. 9A"))
+    r.add("x'/R of the sigma_yy minimum between its two maxima at y = 0.1 h", "at the density maximum (the centre)",
+          x_of_dip(0.1), near(0.0, 0.05))
     for name, mask, paper, target in (("core", e.core(), "0.2", 0.2), ("flanks", e.flanks(), "0.45", 0.45),
                                       ("surface layer", e.surface_layer(), "0.6", 0.6)):
-        v, s = stat(lambda F, m=mask: F.mean(F.axes("stress")[0], m))
-        row(f"stress anisotropy (s1 - s2)/(s1 + s2), {name}", paper, v[0], s[0], near(target, 0.05), 3)
-    v, s = stat(lambda F: (F.mean(F.axes("stress")[1], e.flanks(-1)), F.mean(F.axes("stress")[1], e.flanks(1))))
-    rows.append(("stress major axis, tilt from the vertical on the left / right flank (deg)", "-30 / +30",
-                 f"{fmt(v[0], s[0], 1)} / {fmt(v[1], s[1], 1)}", "see the note on orientations"))
-    fpa = e.report["compare"]["fpa_angle"]
-    rows.append(("best-fit FPA angle psi (deg) against 45 - phi/2", f"FPA: {fpa['psi_fpa_deg']:.1f}",
-                 fmt(fpa["psi_fit_deg"], fpa.get("psi_fit_deg_stderr", np.nan), 1),
-                 "the axes are not the FPA's" if abs(fpa["psi_fit_deg"] - fpa["psi_fpa_deg"]) > 2 * fpa.get("psi_fit_deg_stderr", 0) else "agrees with FPA"))
+        r.add(f"stress anisotropy (s1 - s2)/(s1 + s2), {name}", paper, lambda F, m=mask: F.mean(F.axes("stress")[0], m),
+              near(target, 0.05), 3)
+    r.add_many("stress major axis, tilt from the vertical on the left / right flank (deg)", "-30 / +30",
+               lambda F: (F.mean(F.axes("stress")[1], e.flanks(-1)), F.mean(F.axes("stress")[1], e.flanks(1))),
+               lambda v, s: "see the note on orientations")
+    fpa_angle_row(r)
     # FPA fixes the tilt at -+psi on either side: the spread of the tilt, mirrored to one side,
     # about its mean over the flanks is what FPA sets to zero.
-    v, s = stat(lambda F: float(np.nanstd((F.axes("stress")[1] * np.sign(e.xr))[e.flanks()])))
-    row("spread (sd) of the stress axis' tilt over the flanks, mirrored to one side (deg)", "not fixed (FPA: 0)",
-        v[0], s[0], sign(True), 1)
+    r.add("spread (sd) of the stress axis' tilt over the flanks, mirrored to one side (deg)", "not fixed (FPA: 0)",
+          lambda F: float(np.nanstd((F.axes("stress")[1] * np.sign(e.xr))[e.flanks()])), sign(True), 1)
 
     # RVE size (Figs. 5-6).
     rve = e.report["coarse"].get("rve_study", {})
     if rve:
         counts = [p["converged_grain_count"] for p in rve["points"]]
-        rows.append(("RVE size at which stress, fabric, volume fraction converge (grains)", "100-200",
-                     f"{min(counts):.0f}-{max(counts):.0f} (chosen {rve['chosen_grain_count']:.0f}; tolerance {rve['tolerance']:g}, members' mean)",
-                     "differs: ours converges more slowly" if min(counts) > 200 else "agrees"))
+        r.append(("RVE size at which stress, strain, fabric, volume fraction converge (grains)", "100-200",
+                  f"{min(counts):.0f}-{max(counts):.0f} at {len(counts)} points (chosen {rve['chosen_grain_count']:.0f}; "
+                  f"tolerance {rve['tolerance']:g}, members' mean)",
+                  "differs: ours converges more slowly" if min(counts) > 200 else "agrees"))
 
     # Displacements and strains (Figs. 12-14).
     apex_region = e.yh > 0.7
     base_core = (e.yh < 0.2) & (np.abs(e.xr) < 0.3)
-    v, s = stat(lambda F: F.mean(np.hypot(F["displacement_x"], F["displacement_y"]), apex_region)
-                / F.mean(np.hypot(F["displacement_x"], F["displacement_y"]), base_core))
-    row("|u| of the gravity change: y > 0.7 h over the base core", "> 1 (grows towards the tip)", v[0] - 1, s[0], sign(True), 2,
-        "shown minus 1")
+    u = lambda F: np.hypot(F["displacement_x"], F["displacement_y"])  # noqa: E731
+    r.add("|u| of the gravity change: y > 0.7 h over the base core, minus 1", "> 0 (grows towards the tip)",
+          lambda F: F.mean(u(F), apex_region) / F.mean(u(F), base_core), sign(True), 2, shift=1.0)
 
     def strain_centre_over_max(y):
         def f(F):
             x, p = F.profile(np.abs(F["strain_yy"]), y)  # the gravity reduction's (unloading) strain
-            return np.nanmean(p[np.abs(x) < 0.05]) / np.nanmax(p[np.abs(x) < 0.8])
+            with _quiet():
+                return np.nanmean(p[np.abs(x) < 0.05]) / np.nanmax(p[np.abs(x) < 0.8])
         return f
 
     for y in (0.1, 0.3):
-        v, s = stat(strain_centre_over_max(y))
-        rows.append((f"|strain_yy| at the axis over its maximum, y = {y:g} h", "< 1 (a dip) up to some height",
-                     fmt(v[0], s[0], 3), "dip (beyond 2 SE)" if v[0] < 1 - 2 * s[0] else "no dip resolved"))
-    v, s = stat(lambda F: (F.mean(F.axes("strain")[1], e.flanks(-1)), F.mean(F.axes("strain")[1], e.flanks(1))))
-    rows.append(("strain major axis, tilt from the vertical on the left / right flank (deg)", "-45 / +45",
-                 f"{fmt(v[0], s[0], 1)} / {fmt(v[1], s[1], 1)}", "see the note on orientations"))
+        v, s = e.statistic(strain_centre_over_max(y))
+        r.append((f"|strain_yy| at the axis over its maximum, y = {y:g} h", "< 1 (a dip) up to some height",
+                  fmt(v[0], s[0], 3), "dip (beyond 2 SE)" if v[0] < 1 - 2 * s[0] else "no dip resolved"))
+    r.add_many("strain major axis, tilt from the vertical on the left / right flank (deg)", "-45 / +45",
+               lambda F: (F.mean(F.axes("strain")[1], e.flanks(-1)), F.mean(F.axes("strain")[1], e.flanks(1))),
+               lambda v, s: "see the note on orientations")
 
     # Non-collinearity (Fig. 15).
     pile = e.yh < 0.9
+
     def misalign(F):
         ts, tf, te = F.axes("stress")[1], F.axes("fabric")[1], F.axes("strain")[1]
         return (F.mean(angle_between_axes(ts, te), pile), F.mean(angle_between_axes(ts, tf), pile),
                 F.mean(angle_between_axes(te, tf), pile))
-    v, s = stat(misalign)
-    rows.append(("angle between major axes: stress-strain / stress-fabric / strain-fabric (deg)", "not collinear; fabric tilted most",
-                 " / ".join(fmt(a, b, 1) for a, b in zip(v, s)),
-                 "not collinear (each beyond 2 SE)" if np.all(v > 2 * s) else "partly collinear"))
-    def mean_abs_tilts(F):
-        return tuple(F.mean(np.abs(t), e.flanks()) for t in (F.axes("stress")[1], F.axes("strain")[1], F.axes("fabric")[1]))
-    v, s = stat(mean_abs_tilts)
-    most = ["stress", "strain", "fabric"][int(np.argmax(v))]
-    rows.append(("mean |tilt| on the flanks: stress / strain / fabric (deg)", "fabric most (conclusions)",
-                 " / ".join(fmt(a, b, 1) for a, b in zip(v, s)), f"{most} tilted most"))
+    r.add_many("angle between major axes: stress-strain / stress-fabric / strain-fabric (deg)", "not collinear; fabric tilted most",
+               misalign, lambda v, s: "not collinear (each beyond 2 SE)" if np.all(v > 2 * s) else "partly collinear")
+    r.add_many("mean |tilt| on the flanks: stress / strain / fabric (deg)", "fabric most (conclusions)",
+               lambda F: tuple(F.mean(np.abs(F.axes(k)[1]), e.flanks()) for k in ("stress", "strain", "fabric")),
+               lambda v, s: f"{['stress', 'strain', 'fabric'][int(np.argmax(v))]} tilted most")
 
-    # tr F against nu C (eqs. 20-23, Fig. 16B).
-    def slope(F):
-        tr, vc = F["fabric_xx"] + F["fabric_yy"], F["volume_fraction"] * F["coordination"]
-        ok = np.isfinite(tr) & np.isfinite(vc) & e.interior()
-        return float(np.sum(tr[ok] * vc[ok]) / np.sum(vc[ok] ** 2))
-    v, s = stat(slope)
-    row("tr F / (nu C), least squares through 0 over points > 1 RVE radius deep, polydisperse 30 %", "g2 = 1.045 (eq. 23)", v[0], s[0], near(1.045, 0.01), 4)
+    # tr F against nu C and nu (eqs. 20-23, Figs. 16B and 17).
+    r.add("tr F / (nu C), least squares through 0 over points > 1 RVE radius deep, polydisperse 30 %", "g2 = 1.045 (eq. 23)",
+          lambda F: g2_slope(F, e), near(1.045, 0.01), 4)
+    r.fabric_scatter()
 
-    # Coordination.
-    v, s = stat(lambda F: (F.mean(F["coordination"], e.core()), F.mean(F["coordination"], e.flanks())))
-    rows.append(("coordination number: core / flanks", "not given", f"{fmt(v[0], s[0], 2)} / {fmt(v[1], s[1], 2)}", "-"))
-    return rows
+    def trace_nu_correlation(F):
+        tr, nu = F["fabric_xx"] + F["fabric_yy"], F["volume_fraction"]
+        ok = np.isfinite(tr) & np.isfinite(nu) & e.interior()
+        return float(np.corrcoef(tr[ok], nu[ok])[0, 1])
+    r.add("correlation of tr F with nu over points > 1 RVE radius deep (Pearson r)", "roughly linear (Fig. 17)",
+          trace_nu_correlation, sign(True), 2)
+    r.coordination()
+    return r
 
 
-def comparison(e):
-    """The models against the DEM ensemble: report.json's compare and fit sections."""
-    c = e.report["compare"]
+def fpa_angle_row(r):
+    fpa = r.e.report["compare"]["fpa_angle"]
+    se = fpa.get("psi_fit_deg_stderr", np.nan)
+    r.append(("best-fit FPA angle psi (deg) against 45 - phi/2", f"FPA: {fpa['psi_fpa_deg']:.1f}", fmt(fpa["psi_fit_deg"], se, 1),
+              "the axes are not the FPA's" if abs(fpa["psi_fit_deg"] - fpa["psi_fpa_deg"]) > 2 * se else "agrees with FPA"))
+
+
+def asymmetric_rows(e):
+    """Section 5 and Fig. 11: the flanks, and the pressure under the pile poured from a moving
+    funnel (x' is measured from the apex, in each side's own half-width)."""
+    r = Rows(e)
+    r.repose({"left": 28.0, "right": 21.0}, {"left": "28", "right": "21", "pile_mean": "24.5 (mean of 28 and 21)"})
+    r.base_dips((0.0, 0.1, 0.2, 0.3), under="the apex")
+    r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (asymmetric, Fig. 11)",
+               lambda F: (x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=-1)(F), x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=1)(F)),
+               lambda v, s: "-", 2)
+
+    def maxima_ratio(F):
+        x, p = F.profile(-F["stress_yy"], 0.0)
+        return np.nanmax(np.where((x < 0) & (x > -0.8), p, np.nan)) / np.nanmax(np.where((x > 0) & (x < 0.8), p, np.nan))
+    r.add("base sigma_yy: left maximum over right maximum, minus 1", "asymmetric (not given)", maxima_ratio,
+          lambda v, s: "asymmetric (beyond 2 SE)" if abs(v) > 2 * s else "no asymmetry resolved", 3, shift=1.0)
+    r.add("x'/R of the sigma_yy minimum between its two maxima at the base", "beneath the tip (0)", x_of_dip(0.0), near(0.0, 0.05))
+    r.add_many("stress major axis, tilt from the vertical on the left / right flank (deg)", "not given",
+               lambda F: (F.mean(F.axes("stress")[1], e.flanks(-1)), F.mean(F.axes("stress")[1], e.flanks(1))),
+               lambda v, s: "see the note on orientations")
+    fpa_angle_row(r)
+    r.coordination()
+    return r
+
+
+def monodisperse_rows(e):
+    """Fig. 16A and eq. (20): tr F = nu C for grains of one size."""
+    r = Rows(e)
+    r.repose({}, {})
+    r.add("tr F / (nu C), least squares through 0 over points > 1 RVE radius deep, monodisperse", "1 (eq. 20)",
+          lambda F: g2_slope(F, e), near(1.0, 0.01), 4)
+    r.fabric_scatter()
+    r.coordination()
+    return r
+
+
+ENSEMBLES = {
+    # kind: (heading, the paper's count, rows)
+    "symmetric": ("Symmetric piles (section 2)", 14, symmetric_rows),
+    "asymmetric": ("Asymmetric piles (section 5, Fig. 11)", 7, asymmetric_rows),
+    "monodisperse": ("Monodisperse piles (Fig. 16A, eq. 20)", 7, monodisperse_rows),
+}
+
+
+def with_rve_study_column(rows, rows_rve):
+    """(finding, paper, ours, ours at the RVE study's size, verdict) from two row lists."""
+    by_finding = {row[0]: row[2] for row in (rows_rve or [])}
+    return [(f, p, o, by_finding.get(f, "-"), v) for f, p, o, v in rows]
+
+
+def comparison(e, smooth):
+    """The models against the DEM ensemble: report.json's compare and fit sections (smooth: the
+    report of the same ensemble with a smooth base under elasticity)."""
+    sources = [("elastic (rough base)", e.report, "elastic")]
+    if smooth is not None:
+        sources.append(("elastic (smooth base)", smooth, "elastic"))
+    sources.append(("FPA", e.report, "fpa"))
     rows = []
-    for model in ("elastic", "fpa"):
-        m = c["models"].get(model, {})
+    for label, report, model in sources:
+        m = report["compare"]["models"].get(model, {})
         for comp in ("xx", "yy", "xy"):
             k = f"relative_l2_stress_{comp}"
             if k in m:
-                rows.append((model, f"relative L2 difference of sigma_{comp}", fmt(m[k], m.get(k + "_stderr", np.nan), 3)))
+                rows.append((label, f"relative L2 difference of sigma_{comp}", fmt(m[k], m.get(k + "_stderr", np.nan), 3)))
         k = "principal_axis_angle_mean_deg"
         if m.get(k) is not None:
-            rows.append((model, "mean angle between the major stress axes (deg)", fmt(m[k], m.get(k + "_stderr", np.nan), 1)))
-    for source, d in c["base_pressure_dip"].items():
-        rows.append((source, "base sigma_yy: axis over maximum; x'/R of the maximum",
-                     f"{d['centre_over_max']:.3f}; {d['x_of_max_over_R']:+.2f}"))
+            rows.append((label, "mean angle between the major stress axes (deg)", fmt(m[k], m.get(k + "_stderr", np.nan), 1)))
+        d = report["compare"]["base_pressure_dip"].get(model)
+        if d:
+            rows.append((label, "base sigma_yy: axis over maximum; x'/R of the maximum (the model's own, no ensemble error)",
+                         f"{d['centre_over_max']:.3f}; {d['x_of_max_over_R']:+.2f}"))
     fit = e.report.get("fit", {}).get("models", {}).get("isotropic")
     if fit:
         rows.append(("isotropic fit of the gravity change", "E (N/m), nu, 95 % interval over piles",
@@ -358,19 +475,31 @@ def comparison(e):
     return rows
 
 
-def markdown(e, rows, comp):
-    seeds = ", ".join(str(m["seed"]) for m in e.report["ensemble"]["members"])
-    lines = [f"Ensemble: {e.n} of the paper's 14 symmetric piles (seeds {seeds}); mesh {e.report['mesh'].get('kind', 'wedge')}, "
-             f"RVE radius {e.attrs['rve_radius_m']:.4f} m, h = {e.h:.3f} m, R = {e.R:.3f} m. "
-             "Errors: one jackknife standard error over the piles.", "",
-             "| finding | paper | ours | verdict |", "|---|---|---|---|"]
+def markdown(sections):
+    """sections: (kind, ensemble, rows with the RVE column, comparison rows, RVE-study grains)."""
     cell = lambda s: str(s).replace("|", "\\|")  # noqa: E731 - a bar inside a cell ends it
-    lines += [f"| {cell(a)} | {cell(b)} | {cell(c)} | {cell(d)} |" for a, b, c, d in rows]
-    lines += ["", "The models on the same mesh, against the DEM ensemble mean:", "",
-              "| model | quantity | value |", "|---|---|---|"]
-    lines += [f"| {a} | {b} | {c} |" for a, b, c in comp]
-    return "\n".join(lines) + "\n"
+    lines = []
+    for kind, e, rows, comp, rve_grains in sections:
+        heading, count, _ = ENSEMBLES[kind]
+        seeds = ", ".join(str(m["seed"]) for m in e.report["ensemble"]["members"])
+        lines += [f"### {heading}", "",
+                  f"{e.n} of {count} piles (seeds {seeds}); mesh {e.report['mesh'].get('kind', 'wedge')}, "
+                  f"RVE radius {e.attrs['rve_radius_m']:.4f} m (the paper's 150 grains), h = {e.h:.3f} m, R = {e.R:.3f} m. "
+                  "Errors: one jackknife standard error over the piles.", "",
+                  f"| finding | paper | ours | ours, RVE of {rve_grains} | verdict |", "|---|---|---|---|---|"]
+        lines += ["| " + " | ".join(cell(c) for c in row) + " |" for row in rows]
+        lines += ["", "The models on the same mesh, against the DEM ensemble mean:", "",
+                  "| model | quantity | value |", "|---|---|---|"]
+        lines += ["| " + " | ".join(cell(c) for c in row) + " |" for row in comp]
+        lines.append("")
+    missing = [k for k in ENSEMBLES if k not in {s[0] for s in sections}]
+    if missing:
+        lines += [f"Not yet measured: the {', '.join(missing)} ensemble{'s' if len(missing) > 1 else ''} "
+                  "(no products yet); their rows are missing, not estimated.", ""]
+    return "\n".join(lines)
 
+
+# --- The figures ----------------------------------------------------------------------------
 
 def read_profiles(products):
     table = {}
@@ -381,31 +510,21 @@ def read_profiles(products):
     return {k: np.array(sorted(v)) for k, v in table.items()}
 
 
-def figures(e, products, outdir):
-    """One PNG per paper figure with data behind it: cuts at the profile heights, mean with a
-    band of one standard error; the models drawn over the DEM where they have the quantity."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def save(fig, outdir, name, written):
+    path = os.path.join(outdir, name + ".png")
+    fig.savefig(path + ".tmp.png", dpi=110)
+    os.replace(path + ".tmp.png", path)
+    written.append(path)
 
-    prof = read_profiles(products)
+
+def cut_figures(plt, e, prof, smooth_prof, panels, outdir, what, written):
+    """Horizontal cuts at the profile heights: mean with a band of one standard error, the
+    models drawn over the DEM at two heights where they have the quantity."""
     heights = sorted({k[2] for k in prof if k[0] == "dem" and k[1] == "sigma_yy"})
     cmap = plt.get_cmap("viridis")
-    panels = {
-        "fig07_volume_fraction": [("volume_fraction", "volume fraction nu")],
-        "fig08_fabric": [("fabric_trace", "tr F"), ("fabric_anisotropy", "deviatoric fraction of F"),
-                         ("fabric_orientation_deg", "major axis from horizontal (deg)")],
-        "fig09_stress": [("sigma_yy", "sigma_yy / rho g h"), ("stress_anisotropy", "stress anisotropy"),
-                         ("stress_orientation_deg", "major axis from horizontal (deg)")],
-        "fig12_displacement": [("displacement_x", "u_x (m)"), ("displacement_y", "u_y (m)")],
-        "fig13_strain": [("strain_yy", "strain_yy")],
-        "fig14_strain_orientation": [("strain_orientation_deg", "major axis from horizontal (deg)")],
-        "fig15_misalignment": [("misalignment_stress_strain_deg", "stress-strain (deg)"),
-                               ("misalignment_stress_fabric_deg", "stress-fabric (deg)"),
-                               ("misalignment_strain_fabric_deg", "strain-fabric (deg)")],
-    }
-    os.makedirs(outdir, exist_ok=True)
-    written = []
+    models = [("elastic", "--", prof), ("fpa", ":", prof)]
+    if smooth_prof is not None:
+        models.insert(1, ("elastic", "-.", smooth_prof))
     for name, quantities in panels.items():
         fig, axes = plt.subplots(1, len(quantities), figsize=(5.2 * len(quantities), 4.0), squeeze=False)
         for ax, (q, label) in zip(axes[0], quantities):
@@ -416,56 +535,173 @@ def figures(e, products, outdir):
                     continue
                 ax.plot(d[:, 0], d[:, 1], color=colour, label=f"DEM y = {y:g} h")
                 ax.fill_between(d[:, 0], d[:, 1] - d[:, 2], d[:, 1] + d[:, 2], color=colour, alpha=0.25, lw=0)
-                for model, style in (("elastic", "--"), ("fpa", ":")):
-                    m = prof.get((model, q, y))
+                for model, style, table in models:
+                    m = table.get((model, q, y))
                     if m is not None and len(m) and y in (heights[0], heights[len(heights) // 2]):
-                        ax.plot(m[:, 0], m[:, 1], style, color=colour, lw=1.2, label=f"{model} y = {y:g} h")
+                        base = "" if model != "elastic" else (" smooth" if table is smooth_prof else " rough")
+                        ax.plot(m[:, 0], m[:, 1], style, color=colour, lw=1.2, label=f"{model}{base} y = {y:g} h")
             if q == "volume_fraction":  # the surface RVEs of a mean wedge are no volume fraction
                 ax.set_ylim(0.6, 0.95)
             ax.set_xlabel("x (m)")
             ax.set_ylabel(label)
         axes[0][0].legend(fontsize=6, ncol=2)
-        bands = "mean ± 1 SE" if name != "fig15_misalignment" else "mean (profiles.csv gives these angles no SE)"
-        fig.suptitle(f"{name.split('_', 1)[0].replace('fig', 'Fig. ')}: {e.n} symmetric piles, {bands}")
+        bands = "mean ± 1 SE" if "misalignment" not in name else "mean (profiles.csv gives these angles no SE)"
+        fig.suptitle(f"{name.split('_', 1)[0].replace('fig', 'Fig. ')}: {e.n} {what} piles, {bands}")
         fig.tight_layout()
-        path = os.path.join(outdir, name + ".png")
-        fig.savefig(path + ".tmp.png", dpi=110)
-        os.replace(path + ".tmp.png", path)
+        save(fig, outdir, name, written)
         plt.close(fig)
-        written.append(path)
 
-    # Fig. 16B: tr F against nu C at every point, and the line of slope g2.
+
+def trace_figure(plt, e, outdir, name, title, slope, slope_label, written):
+    """tr F against nu C at every point more than one RVE radius deep (Fig. 16)."""
     F = Fields(e, e.mean_fields(sorted(e.piles)))
-    tr, vc = F["fabric_xx"] + F["fabric_yy"], F["volume_fraction"] * F["coordination"]
-    ok = np.isfinite(tr) & np.isfinite(vc) & e.interior()
+    tr, vc = trace_and_nu_c(F, e)
     fig, ax = plt.subplots(figsize=(4.6, 4.2))
-    ax.plot(tr[ok], vc[ok], ".", ms=2, color="0.3")
-    lim = [0.95 * min(tr[ok].min(), vc[ok].min()), 1.05 * max(tr[ok].max(), vc[ok].max())]
-    ax.plot(lim, lim, "k--", lw=1, label="nu C = tr F")
-    ax.plot(lim, np.array(lim) / 1.045, "r:", lw=1, label="tr F = 1.045 nu C (paper, eq. 23)")
+    ax.plot(tr, vc, ".", ms=2, color="0.3")
+    lim = [0.95 * min(tr.min(), vc.min()), 1.05 * max(tr.max(), vc.max())]
+    ax.plot(lim, lim, "k--", lw=1, label="nu C = tr F (eq. 20)")
+    if slope is not None:
+        ax.plot(lim, np.array(lim) / slope, "r:", lw=1, label=slope_label)
     ax.set_xlabel("tr F")
     ax.set_ylabel("nu C")
     ax.legend(fontsize=7)
     ax.set_xlim(lim)
     ax.set_ylim(lim)
-    ax.set_title(f"Fig. 16B: {e.n} polydisperse piles, points > 1 RVE radius deep", fontsize=9)
+    ax.set_title(title, fontsize=9)
     fig.tight_layout()
-    path = os.path.join(outdir, "fig16b_fabric_trace.png")
-    fig.savefig(path + ".tmp.png", dpi=110)
-    os.replace(path + ".tmp.png", path)
+    save(fig, outdir, name, written)
     plt.close(fig)
-    written.append(path)
+
+
+def rve_figures(plt, e, products, outdir, written):
+    """Figs. 5 and 6: each component of the members' mean strain and fabric at the RVE study's
+    points against the number of grains in the RVE, with the paper's 100-200 and our choice."""
+    rows = []
+    with gzip.open(os.path.join(products, "rve_study.csv.gz"), "rt", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    points = sorted({int(r["point"]) for r in rows})
+    chosen = e.report["coarse"]["rve_study"]["chosen_grain_count"]
+    for name, kind, label in (("fig05_rve_strain", "strain", "strain"), ("fig06_rve_fabric", "fabric", "fabric")):
+        fig, axes = plt.subplots(1, len(points), figsize=(4.2 * len(points), 3.6), squeeze=False)
+        for ax, p in zip(axes[0], points):
+            sel = [r for r in rows if int(r["point"]) == p]
+            for comp, style in (("xx", "-"), ("yy", "--"), ("xy", ":")):
+                d = np.array([(float(r["grain_count"]), float(r["value"])) for r in sel if r["quantity"] == f"{kind}_{comp}"])
+                if len(d):
+                    ax.plot(d[:, 0], d[:, 1], style, marker=".", ms=3, label=f"{label}_{comp}")
+            ax.axvspan(100, 200, color="0.85", lw=0, label="paper: 100-200 grains")
+            ax.axvline(chosen, color="r", lw=0.8, label=f"chosen: {chosen:.0f}")
+            ax.set_xscale("log")
+            ax.set_xlabel("grains in the RVE")
+            ax.set_title(f"x = {float(sel[0]['x_m']):+.3f} m, y = {float(sel[0]['y_m']):.3f} m", fontsize=8)
+        axes[0][0].set_ylabel(label)
+        axes[0][0].legend(fontsize=6)
+        fig.suptitle(f"{name.split('_', 1)[0].replace('fig0', 'Fig. ')}: RVE size, mean of {e.n} symmetric piles")
+        fig.tight_layout()
+        save(fig, outdir, name, written)
+        plt.close(fig)
+
+
+def figures(study, outdir):
+    """One PNG per paper figure with data behind it (Figs. 5-9 and 11-17)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(outdir, exist_ok=True)
+    written = []
+    if "symmetric" in study:
+        e, products, _, smooth_products = study["symmetric"]
+        prof = read_profiles(products)
+        smooth = read_profiles(smooth_products) if smooth_products else None
+        cut_figures(plt, e, prof, smooth, {
+            "fig07_volume_fraction": [("volume_fraction", "volume fraction nu")],
+            "fig08_fabric": [("fabric_trace", "tr F"), ("fabric_anisotropy", "deviatoric fraction of F"),
+                             ("fabric_orientation_deg", "major axis from horizontal (deg)")],
+            "fig09_stress": [("sigma_yy", "sigma_yy / rho g h"), ("stress_anisotropy", "stress anisotropy"),
+                             ("stress_orientation_deg", "major axis from horizontal (deg)")],
+            "fig12_displacement": [("displacement_x", "u_x (m)"), ("displacement_y", "u_y (m)")],
+            "fig13_strain": [("strain_yy", "strain_yy")],
+            "fig14_strain_orientation": [("strain_orientation_deg", "major axis from horizontal (deg)")],
+            "fig15_misalignment": [("misalignment_stress_strain_deg", "stress-strain (deg)"),
+                                   ("misalignment_stress_fabric_deg", "stress-fabric (deg)"),
+                                   ("misalignment_strain_fabric_deg", "strain-fabric (deg)")],
+        }, outdir, "symmetric", written)
+        if os.path.exists(os.path.join(products, "rve_study.csv.gz")):
+            rve_figures(plt, e, products, outdir, written)
+        F = Fields(e, e.mean_fields(sorted(e.piles)))
+        trace_figure(plt, e, outdir, "fig16b_fabric_trace", f"Fig. 16B: {e.n} polydisperse piles, points > 1 RVE radius deep",
+                     g2_slope(F, e), "tr F = g2 nu C, g2 fitted", written)
+        # Fig. 17: tr F against nu.
+        tr, nu = F["fabric_xx"] + F["fabric_yy"], F["volume_fraction"]
+        ok = np.isfinite(tr) & np.isfinite(nu) & e.interior()
+        fig, ax = plt.subplots(figsize=(4.6, 4.2))
+        ax.plot(nu[ok], tr[ok], ".", ms=2, color="0.3")
+        k, c = np.polyfit(nu[ok], tr[ok], 1)
+        xs = np.linspace(nu[ok].min(), nu[ok].max(), 2)
+        ax.plot(xs, k * xs + c, "r-", lw=1, label=f"least squares: tr F = {k:.2f} nu {c:+.2f}")
+        ax.set_xlabel("volume fraction nu")
+        ax.set_ylabel("tr F")
+        ax.legend(fontsize=7)
+        ax.set_title(f"Fig. 17: {e.n} symmetric piles, points > 1 RVE radius deep", fontsize=9)
+        fig.tight_layout()
+        save(fig, outdir, "fig17_fabric_trace_volume_fraction", written)
+        plt.close(fig)
+    if "asymmetric" in study:
+        e, products, _, smooth_products = study["asymmetric"]
+        cut_figures(plt, e, read_profiles(products), read_profiles(smooth_products) if smooth_products else None,
+                    {"fig11_asymmetric_stress": [("sigma_yy", "sigma_yy / rho g h")]}, outdir, "asymmetric", written)
+    if "monodisperse" in study:
+        e = study["monodisperse"][0]
+        trace_figure(plt, e, outdir, "fig16a_fabric_trace_monodisperse",
+                     f"Fig. 16A: {e.n} monodisperse piles, points > 1 RVE radius deep", None, "", written)
     return written
+
+
+# --- The study ------------------------------------------------------------------------------
+
+def load_study(root):
+    """kind -> (ensemble, products, products of the RVE-study variant or None, of the smooth
+    base or None), for every ensemble whose products exist under root."""
+    study = {}
+    for kind in ENSEMBLES:
+        products = os.path.join(root, kind, "products")
+        if not os.path.exists(os.path.join(products, "fields.h5")):
+            continue
+        optional = lambda name: (os.path.join(root, kind, name)  # noqa: E731
+                                 if os.path.exists(os.path.join(root, kind, name, "report.json")) else None)
+        study[kind] = (Ensemble(products, kind), products, optional("products_rve_study"), optional("products_smooth_base"))
+    return study
+
+
+def sections(study):
+    out = []
+    for kind, (e, _, rve_products, smooth_products) in study.items():
+        rows = ENSEMBLES[kind][2](e)
+        rows_rve, grains = None, "the RVE study's size"
+        if rve_products and os.path.exists(os.path.join(rve_products, "fields.h5")):
+            e_rve = Ensemble(rve_products, kind)
+            rows_rve = ENSEMBLES[kind][2](e_rve)
+            grains = f"{e_rve.report['coarse']['rve_study']['chosen_grain_count']:.0f} grains (the RVE study's choice)"
+        smooth = None
+        if smooth_products:
+            with open(os.path.join(smooth_products, "report.json"), encoding="utf-8") as f:
+                smooth = json.load(f)
+        out.append((kind, e, with_rve_study_column(rows, rows_rve), comparison(e, smooth), grains))
+    return out
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("study", nargs="?", default=os.path.join(ROOT, "docs", "studies", "paper", "symmetric"))
+    parser.add_argument("root", nargs="?", default=os.path.join(ROOT, "docs", "studies", "paper"),
+                        help="the study's folder, holding <ensemble>/products*/ (default docs/studies/paper)")
     parser.add_argument("--doc", default=os.path.join(ROOT, "docs", "studies", "paper.md"))
+    parser.add_argument("--figures", help="where the PNGs go (default: the root)")
     args = parser.parse_args()
-    products = os.path.join(args.study, "products")
-    e = Ensemble(products)
-    table = markdown(e, findings(e), comparison(e))
+    study = load_study(args.root)
+    if not study:
+        sys.exit(f"tables.py: no products under {args.root}/<ensemble>/products (run studies/paper/stages.py)")
+    table = markdown(sections(study))
     with open(args.doc, encoding="utf-8") as f:
         doc = f.read()
     begin, end = "<!-- table: studies/paper/tables.py -->\n", "<!-- end of table -->"
@@ -476,7 +712,7 @@ def main():
         f.write(doc)
     os.replace(args.doc + ".tmp", args.doc)
     print(f"tables.py: {len(table.splitlines())} lines of table -> {args.doc}")
-    for path in figures(e, products, os.path.join(os.path.dirname(args.doc), "paper")):
+    for path in figures(study, args.figures or args.root):
         print("tables.py: wrote", path)
 
 

@@ -26,6 +26,7 @@
 #include "common/atomic_file.h"
 #include "common/ensemble.h"
 #include "common/error.h"
+#include "common/fields_attributes.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
 #include "common/scene_tables.h"
@@ -77,23 +78,15 @@ struct Stage {
 };
 
 #ifdef PILELAB_WITH_CONTINUUM
-// A number the earlier stages wrote to report.json; a missing or null one (a non-finite value
-// is written as null) names the key instead of failing inside the JSON library.
-double report_number(const nlohmann::json& report, const std::string& section, const std::string& key) {
-  const auto& s = report.contains(section) ? report[section] : nlohmann::json();
-  if (!s.is_object() || !s.contains(key) || !s[key].is_number())
-    throw InputError("report.json (in the output directory): " + section + "." + key + ": expected a number from the " + section +
-                     " stage, found " + (s.is_object() && s.contains(key) ? s[key].dump() : std::string("nothing")));
-  return s[key].get<double>();
-}
-
 // What the solve takes from the stages before it where the scene leaves it open: the bulk
-// density and gravity coarse measured, the repose angles of the pile (or the members' means).
-continuum::MeasuredPile measured_for_solve(const nlohmann::json& report, const std::optional<mesh::Wedge>& pile) {
+// density and gravity of coarse's fields (OUT/fields.h5), the repose angles of the pile (or the
+// members' means).
+continuum::MeasuredPile measured_for_solve(const std::string& fields_h5, const std::optional<mesh::Wedge>& pile) {
   continuum::MeasuredPile m;
-  if (report.contains("coarse")) {
-    m.density_kg_per_m2 = report_number(report, "coarse", "rho_bulk_kg_per_m2");
-    m.gravity_m_per_s2 = report_number(report, "coarse", "gravity_m_per_s2");
+  if (std::filesystem::exists(fields_h5)) {
+    const FieldsAttributes fields = read_fields_attributes(fields_h5);
+    if (fields.rho_bulk_kg_per_m2 > 0) m.density_kg_per_m2 = fields.rho_bulk_kg_per_m2;
+    if (fields.gravity_m_per_s2 > 0) m.gravity_m_per_s2 = fields.gravity_m_per_s2;
   }
   if (pile) {
     m.left_repose_angle_deg = pile->left_angle_deg;
@@ -102,65 +95,16 @@ continuum::MeasuredPile measured_for_solve(const nlohmann::json& report, const s
   return m;
 }
 
-// The closed loop of the fit: the gravity change solved with the fitted isotropic constants,
-// its displacement and strain against the DEM's. Three parts, since the solve in the middle is
-// collective over the MPI ranks: the scene of the solve (rank 0; empty when there is nothing to
-// solve, the section already written), the solve (every rank), and the comparison (rank 0).
-std::string closed_loop_scene(const std::string& out_dir, const nlohmann::json& report) {
-  if (!report.contains("coarse") || !report.contains("fit") || !report["fit"].is_object() ||
-      !report["fit"].value("models", nlohmann::json::object()).contains("isotropic"))
-    return "";
-  const auto& iso = report["fit"]["models"]["isotropic"];
-  const auto constant = [&](const char* key) {  // null when the fit had no data
-    return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;
-  };
-  const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
-  const double nu = lambda / (2 * (lambda + mu));
-  const auto& coarse = report["coarse"];
-  // The gravity change the DEM's strains come from, as coarse measured it from the snapshots.
-  const double change = coarse.value("gravity_change", 0.0);
-  if (change == 0.0) return "";
-  if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
-    nlohmann::json fit = report["fit"];
-    fit["closed_loop"] = {{"lambda_N_per_m", lambda},
-                          {"mu_N_per_m", mu},
-                          {"skipped", "the fitted constants are not a stable isotropic material"}};
-    write_report_section((std::filesystem::path(out_dir) / "report.json").string(), "fit", fit);
-    return "";
-  }
-  toml::table root;
-  toml::table c;
-  c.insert("models", toml::array{"elastic"});
-  // The mesh the fields live on, absolute: the solve resolves paths from its scene's directory.
-  c.insert("mesh_file", std::filesystem::absolute(coarse["mesh_file"].get<std::string>()).string());
-  c.insert("density_kg_per_m2", report_number(report, "coarse", "rho_bulk_kg_per_m2"));
-  c.insert("gravity_m_per_s2", report_number(report, "coarse", "gravity_m_per_s2"));
-  toml::table e;
-  e.insert("lame_lambda_N_per_m", std::max(lambda, 0.0));
-  e.insert("shear_modulus_N_per_m", mu);
-  e.insert("gravity_change", change);
-  c.insert("elastic", e);
-  root.insert("continuum", c);
-  const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
-  std::filesystem::create_directories(dir);
-  std::ostringstream text;
-  text << root;
-  write_text_atomically(dir + "/scene.toml", text.str() + "\n");
-  return dir + "/scene.toml";
-}
-
-void closed_loop_result(const std::string& out_dir, const nlohmann::json& report) {
-  const auto& iso = report["fit"]["models"]["isotropic"];
-  const double lambda = iso["lambda_N_per_m"].get<double>(), mu = iso["mu_N_per_m"].get<double>();
-  const std::string dir = (std::filesystem::path(out_dir) / "closed_loop").string();
-  nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
-  result.update(compare::compare_displacements((std::filesystem::path(out_dir) / "fields.h5").string(),
-                                               dir + "/models.h5", "elastic"));
-  result["lame_lambda_used_N_per_m"] = std::max(lambda, 0.0);
-  result["directory"] = "closed_loop";
-  nlohmann::json fit = report["fit"];
-  fit["closed_loop"] = result;
-  write_report_section((std::filesystem::path(out_dir) / "report.json").string(), "fit", fit);
+// The closed loop of the fit, for compare/: the continuum's elasticity on this process alone.
+void solve_gravity_change(const compare::GravityChangeProblem& p, const std::string& out_dir) {
+  continuum::GravityChange g;
+  g.mesh_file = p.mesh_file;
+  g.lame_lambda_N_per_m = p.lame_lambda_N_per_m;
+  g.shear_modulus_N_per_m = p.shear_modulus_N_per_m;
+  g.gravity_change = p.gravity_change;
+  g.density_kg_per_m2 = p.density_kg_per_m2;
+  g.gravity_m_per_s2 = p.gravity_m_per_s2;
+  continuum::solve_gravity_change(g, out_dir);
 }
 #endif
 
@@ -245,6 +189,15 @@ void run_pipeline(const RunOptions& opt) {
   // runs; the ranks share the ensemble's members and the continuum solve.
   MpiWorld* world = launched_by_mpi() ? &MpiWorld::get() : nullptr;
   const bool root = world == nullptr || world->root();
+  // srun without its MPI plugin starts N processes that each think they are alone: N whole
+  // runs into the same OUT. srun tells its tasks how many it started (the batch script itself,
+  // which may run `pilelab run -P N`, has no step variables).
+  const char* tasks = std::getenv("SLURM_STEP_NUM_TASKS");
+  if (tasks && std::atoi(tasks) > 1 && (world == nullptr || world->size() == 1))
+    throw InputError(std::string("pilelab run: Slurm started ") + tasks +
+                     " tasks, but MPI sees this process alone: each would run the whole pipeline into " + opt.out_dir +
+                     ". Start the ranks with srun's MPI plugin (srun --mpi=pmix; srun --mpi=list shows the site's), "
+                     "or run one task (docs/ENSEMBLES.md)");
   if (!ensemble.empty() && !scene.has("dem"))
     throw InputError(opt.scene_path + ": [ensemble] needs a [dem] table: the members are poured from it");
   on_root(world, [&] { prepare_output_directory(opt.out_dir); });
@@ -342,35 +295,24 @@ void run_pipeline(const RunOptions& opt) {
                       o.scene_path = opt.scene_path;
                       o.out_dir = opt.out_dir;
                       o.quiet = opt.quiet;
-                      o.measured = measured_for_solve(read_report(out("report.json")), pile_measured());
+                      o.measured = measured_for_solve(out("fields.h5"), pile_measured());
                       continuum::run_solve(o);
                     }});
 #endif
   stages.push_back({"compare", {"compare"}, {"fields.h5", "models.h5", "profiles.csv"},
                     join(scene_paths("compare", "fields_file"), scene_paths("compare", "models_file")), {"compare.vtu"}, true, [&] {
-                      std::string loop_scene;
+#ifdef PILELAB_WITH_CONTINUUM
+                      MpiWorld::get();  // PETSc, for the fit's closed loop that compare solves on rank 0
+#endif
                       on_root(world, [&] {
                         const auto& pile = pile_measured();
-                        compare::CompareRunOptions o{opt.scene_path, opt.out_dir, std::nullopt};
+                        compare::CompareRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, {}};
                         if (pile) o.measured_repose_angle_deg = 0.5 * (pile->left_angle_deg + pile->right_angle_deg);
+#ifdef PILELAB_WITH_CONTINUUM
+                        if (std::filesystem::exists(out("pile.msh"))) o.solve_gravity_change = solve_gravity_change;
+#endif
                         compare::run_compare(o);
-#ifdef PILELAB_WITH_CONTINUUM
-                        if (std::filesystem::exists(out("pile.msh")))
-                          loop_scene = closed_loop_scene(opt.out_dir, read_report(out("report.json")));
-#endif
                       });
-#ifdef PILELAB_WITH_CONTINUUM
-                      // The fit's closed loop: the fitted isotropic law solved on the same mesh.
-                      const bool solve_loop = world ? world->broadcast(!loop_scene.empty()) : !loop_scene.empty();
-                      if (!solve_loop) return;
-                      MpiWorld::get();
-                      continuum::SolveOptions o;
-                      o.scene_path = out("closed_loop/scene.toml");
-                      o.out_dir = out("closed_loop");
-                      o.quiet = true;
-                      continuum::run_solve(o);
-                      on_root(world, [&] { closed_loop_result(opt.out_dir, read_report(out("report.json"))); });
-#endif
                     }});
 
   bool upstream_ran = false;

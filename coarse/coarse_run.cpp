@@ -16,6 +16,7 @@
 #include "coarse/virial_identity.h"
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/fields_attributes.h"
 #include "common/hdf5_file.h"
 #include "common/profiles_csv.h"
 #include "common/triangle_vtu.h"
@@ -176,16 +177,10 @@ void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nod
 }
 
 void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes,
-                     const std::vector<Vec2>& points, const Samples& samples, const nlohmann::json& info) {
+                     const std::vector<Vec2>& points, const Samples& samples, const FieldsAttributes& attributes) {
   write_atomically(path, [&](const std::string& tmp) {
     H5File f = H5File::create(tmp);
-    f.set_attribute("/", "format", std::string("pilelab-fields"));
-    f.set_attribute("/", "format_version", std::int64_t(1));
-    for (const auto& [key, value] : info.items()) {
-      if (value.is_number_integer()) f.set_attribute("/", key, value.get<std::int64_t>());
-      else if (value.is_number()) f.set_attribute("/", key, value.get<double>());
-      else if (value.is_string()) f.set_attribute("/", key, value.get<std::string>());
-    }
+    write_fields_attributes(f, attributes);
     std::vector<double> xy;
     for (const auto& p : m.nodes) xy.push_back(p.x()), xy.push_back(p.y());
     f.write("/mesh/nodes", xy, {m.nodes.size(), 2}, "m");
@@ -515,21 +510,22 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
 
   // 5. The files and the report.
   const char* methods[] = {"rve", "gaussian", "lucy"};
-  nlohmann::json info = {{"method", methods[static_cast<int>(settings.method)]},
-                         {"rve_radius_m", radius},
-                         {"kernel_width_m", settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width},
-                         {"piles", static_cast<std::int64_t>(piles.size())},
-                         {"snapshot", settings.snapshot},
-                         {"strain_to", set.piles_with_strains ? settings.strain_to : std::string("")},
-                         {"gravity_change", set.gravity_change},
-                         {"height_m", set.mean_height},
-                         {"rho_bulk_kg_per_m2", set.rho_bulk},
-                         {"gravity_m_per_s2", set.gravity}};
-  write_fields_h5(out("fields.h5"), mesh, on_nodes, points, fields, info);
+  FieldsAttributes attributes;
+  attributes.method = methods[static_cast<int>(settings.method)];
+  attributes.rve_radius_m = radius;
+  attributes.kernel_width_m = settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width;
+  attributes.piles = static_cast<std::int64_t>(piles.size());
+  attributes.snapshot = settings.snapshot;
+  attributes.strain_to = set.piles_with_strains ? settings.strain_to : std::string("");
+  attributes.gravity_change = set.gravity_change;
+  attributes.height_m = set.mean_height;
+  attributes.rho_bulk_kg_per_m2 = set.rho_bulk;
+  attributes.gravity_m_per_s2 = set.gravity;
+  write_fields_h5(out("fields.h5"), mesh, on_nodes, points, fields, attributes);
   write_vtu(out("fields.vtu"), mesh, on_nodes, fields, piles.size() > 1);
 
   const FieldSummary summary = summarise_fields(fields);
-  nlohmann::json section = info;
+  nlohmann::json section = attributes.to_json();
   section["dem_files"] = settings.dem_files;
   section["mesh_file"] = settings.mesh_file;
   section["location"] = on_nodes ? "nodes" : "cells";

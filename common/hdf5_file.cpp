@@ -347,6 +347,11 @@ std::int64_t H5File::attribute_int(const std::string& object_path, const std::st
   return get_numeric_attribute<std::int64_t>(id_, object_path, name, H5T_NATIVE_INT64, path_);
 }
 
+bool H5File::has_attribute(const std::string& object_path, const std::string& name) const {
+  if (object_path != "/" && !exists(object_path)) return false;
+  return H5Aexists_by_name(id_, object_path.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
 std::string H5File::attribute_string(const std::string& object_path, const std::string& name) const {
   Handle obj(H5Oopen(id_, object_path.c_str(), H5P_DEFAULT));
   if (obj.id < 0) fail(object_path, "no such object");

@@ -59,6 +59,8 @@ class H5File {
   std::string attribute_string(const std::string& object_path, const std::string& name) const;
   double attribute_double(const std::string& object_path, const std::string& name) const;
   std::int64_t attribute_int(const std::string& object_path, const std::string& name) const;
+  /// Whether the object exists and carries the attribute.
+  bool has_attribute(const std::string& object_path, const std::string& name) const;
 
  private:
   H5File(std::int64_t id, std::string path) : id_(id), path_(std::move(path)) {}

@@ -11,6 +11,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/fields_attributes.h"
 #include "common/hdf5_file.h"
 #include "common/principal_axes.h"
 #include "common/profiles_csv.h"
@@ -217,8 +218,9 @@ struct Scales {
 // density and gravity change it was solved with (its modulus is what it is).
 Scales scale_to_dem(PointFields& model, const std::string& name, const std::string& fields_path,
                     const std::string& models_path, const PointFields& dem) {
-  const H5File fields = H5File::open_read(fields_path), models = H5File::open_read(models_path);
-  const double dem_rho_g = fields.attribute_double("/", "rho_bulk_kg_per_m2") * fields.attribute_double("/", "gravity_m_per_s2");
+  const FieldsAttributes fields = read_fields_attributes(fields_path);
+  const H5File models = H5File::open_read(models_path);
+  const double dem_rho_g = fields.rho_g();
   const double model_rho_g = models.attribute_double("/", "rho_g_h_N_per_m") / models.attribute_double("/", "height_m");
   if (!(dem_rho_g > 0) || !(model_rho_g > 0) || !std::isfinite(dem_rho_g) || !std::isfinite(model_rho_g))
     throw InputError(fields_path + ", " + models_path + ": rho g is " + std::to_string(dem_rho_g) + " and " +
@@ -236,9 +238,10 @@ Scales scale_to_dem(PointFields& model, const std::string& name, const std::stri
     if (model.has(c) && dem.has(c))
       for (char ok : dem.valid.at(c)) compared = compared || ok;
   if (!compared) return k;
-  double dem_change = 0, model_change = 0;
+  // A fields file without a gravity change (0, FieldsAttributes' default) skips the comparison below.
+  const double dem_change = fields.gravity_change;
+  double model_change = 0;
   try {
-    dem_change = fields.attribute_double("/", "gravity_change");
     model_change = models.attribute_double("/" + name, "gravity_change");
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + " (model '" + name + "' has displacements or strains, and comparing "
@@ -305,10 +308,9 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
 
 double fit_sample_spacing(const std::string& fields_path, double requested_m) {
   if (requested_m > 0) return requested_m;
-  H5File file = H5File::open_read(fields_path);
-  const double rve = file.attribute_double("/", "rve_radius_m");
-  if (rve > 0) return rve;
-  const double height = file.attribute_double("/", "height_m");
+  const FieldsAttributes file = read_fields_attributes(fields_path);
+  if (file.rve_radius_m > 0) return file.rve_radius_m;
+  const double height = file.height_m;
   if (!(height > 0))
     throw InputError(fields_path + ": attribute /height_m: expected a positive pile height, found " + std::to_string(height));
   return height / 20;
@@ -541,6 +543,55 @@ nlohmann::json with_jackknife_errors(const std::function<nlohmann::json(const Po
 
 }  // namespace
 
+// The mesh the fields were averaged on, as a gmsh file: coarse's (its report section names it),
+// else OUT/pile.msh.
+std::string fields_mesh_file(const std::string& out_dir) {
+  const std::string report = in_dir(out_dir, "report.json");
+  if (std::filesystem::exists(report)) {
+    const nlohmann::json r = read_report(report);
+    if (r.contains("coarse") && r["coarse"].contains("mesh_file") && r["coarse"]["mesh_file"].is_string())
+      return std::filesystem::absolute(r["coarse"]["mesh_file"].get<std::string>()).string();
+  }
+  return in_dir(out_dir, "pile.msh");
+}
+
+// The closed loop of the fit: the gravity change of the fields (the DEM's relaxation) solved
+// with the fitted isotropic constants on the fields' mesh, into OUT/closed_loop/, and its
+// displacements and strains against the DEM's. Null when there is nothing to close (no fitted
+// constants, no gravity change); a note instead of numbers when the constants are no stable
+// isotropic material.
+nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_path, const std::string& out_dir,
+                           const GravityChangeSolver& solve) {
+  if (!fit.contains("models") || !fit["models"].contains("isotropic")) return nullptr;
+  const auto& iso = fit["models"]["isotropic"];
+  const auto constant = [&](const char* key) {  // null when the fit had no data
+    return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;
+  };
+  const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
+  const double nu = lambda / (2 * (lambda + mu));
+  const FieldsAttributes fields = read_fields_attributes(fields_path);
+  GravityChangeProblem problem;
+  problem.gravity_change = fields.gravity_change;
+  if (problem.gravity_change == 0.0) return nullptr;
+  nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
+  if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
+    result["skipped"] = "the fitted constants are not a stable isotropic material";
+    return result;
+  }
+  problem.mesh_file = fields_mesh_file(out_dir);
+  problem.lame_lambda_N_per_m = std::max(lambda, 0.0);  // a negative lambda with nu > -1 is clipped, as reported
+  problem.shear_modulus_N_per_m = mu;
+  problem.density_kg_per_m2 = fields.rho_bulk_kg_per_m2;
+  problem.gravity_m_per_s2 = fields.gravity_m_per_s2;
+  const std::string dir = in_dir(out_dir, "closed_loop");
+  std::filesystem::create_directories(dir);
+  solve(problem, dir);
+  result.update(compare_displacements(fields_path, in_dir(dir, "models.h5"), "elastic"));
+  result["lame_lambda_used_N_per_m"] = problem.lame_lambda_N_per_m;
+  result["directory"] = "closed_loop";
+  return result;
+}
+
 nlohmann::json run_compare(const CompareRunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   SceneReader reader = SceneReader::from_file(opt.scene_path);
@@ -555,8 +606,10 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   const PointFields dem = read_dem_fields(fields_path, &mesh, &on_nodes);
   if (!on_nodes)
     throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
-  H5File fields_file = H5File::open_read(fields_path);
-  const double height = fields_file.attribute_double("/", "height_m");
+  const double height = read_fields_attributes(fields_path).height_m;
+  if (!(height > 0))
+    throw InputError(fields_path + ": root attribute height_m: expected the pile's height (> 0), found " +
+                     std::to_string(height));
   const double spacing = fit_sample_spacing(fields_path, settings.fit_sample_spacing_m);
   const PileValues piles = read_pile_values(fields_path);
   // An ensemble: the DEM's fields with each pile left out in turn, for the jackknife.
@@ -678,13 +731,17 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
     section["fpa_angle"] = fpa;
   }
 
-  // 5. Stress-strain fits, when the DEM has strains.
+  // 5. Stress-strain fits, when the DEM has strains, and the fit's closed loop.
   if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
     std::vector<FitSample> samples;
     std::vector<FitResult> fits;
-    const nlohmann::json fit = fit_section(dem, piles, spacing, settings.fit_resamples, settings.fit_folds,
-                                           settings.fit_seed, &samples, &fits);
+    nlohmann::json fit = fit_section(dem, piles, spacing, settings.fit_resamples, settings.fit_folds,
+                                     settings.fit_seed, &samples, &fits);
     write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
+    if (opt.solve_gravity_change) {
+      const nlohmann::json loop = closed_loop(fit, fields_path, opt.out_dir, opt.solve_gravity_change);
+      if (!loop.is_null()) fit["closed_loop"] = loop;
+    }
     write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
   }
 

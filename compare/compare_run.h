@@ -3,6 +3,7 @@
 // common triangulation, and stress-strain relations fitted to the DEM. Writes the "compare"
 // and "fit" sections of OUT/report.json, OUT/compare.vtu, and adds the DEM's axis
 // misalignment profiles to OUT/profiles.csv (docs/FORMAT.md).
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -12,6 +13,20 @@
 
 namespace pilelab::compare {
 
+/// The closed loop of a stress-strain fit: the gravity change the DEM's strains come from,
+/// solved on the fields' mesh with the fitted isotropic constants (plane strain), whose
+/// displacements and strains are then set against the DEM's.
+struct GravityChangeProblem {
+  std::string mesh_file;
+  double lame_lambda_N_per_m = 0.0, shear_modulus_N_per_m = 0.0;
+  double gravity_change = 0.0;  ///< relative change of g
+  double density_kg_per_m2 = 0.0, gravity_m_per_s2 = 0.0;
+};
+/// Solves a GravityChangeProblem and writes the model "elastic" into OUT_DIR/models.h5. The
+/// caller supplies it (the continuum models), so that compare/ needs no finite elements; it is
+/// called on this process alone.
+using GravityChangeSolver = std::function<void(const GravityChangeProblem&, const std::string& out_dir)>;
+
 struct CompareRunOptions {
   std::string scene_path;
   std::string out_dir;
@@ -19,6 +34,8 @@ struct CompareRunOptions {
   /// angle psi = 45 - phi/2 uses it unless compare.repose_angle_deg is given. Without it, the
   /// "dem" section of OUT/report.json is read (a standalone `pilelab compare`).
   std::optional<double> measured_repose_angle_deg;
+  /// Without it, the fit has no closed loop.
+  GravityChangeSolver solve_gravity_change;
 };
 
 /// The [compare] table, read and checked in one place.

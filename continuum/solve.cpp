@@ -181,23 +181,11 @@ const ModelEntry model_registry[] = {
     {"fpa", &ContinuumSettings::fpa, solve_fpa},
 };
 
-}  // namespace
-
-nlohmann::json run_solve(const SolveOptions& o) {
-  const MPI_Comm comm = MPI_COMM_WORLD;
+// The models of the settings on their mesh, and every file they write, on the ranks of comm.
+nlohmann::json solve_models(const ContinuumSettings& s, const SolveOptions& o, MPI_Comm comm) {
   const bool root = Utilities::MPI::this_mpi_process(comm) == 0;
   ConditionalOStream pcout(std::cout, root && !o.quiet);
   Timer total;
-
-  SceneReader reader = SceneReader::from_file(o.scene_path);
-  const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
-  ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
-  // The FPA's angles: the scene's; or the DEM's, handed over by `pilelab run` (one pile or an
-  // ensemble's mean) or, for `pilelab solve` with repose_angle_source = "dem", read from the
-  // DEM's report section.
-  const bool angles_handed_over = apply_measured_pile(o.measured, reader, s);
-  if (s.fpa && s.fpa_model.angles_from_dem && !angles_handed_over)
-    apply_dem_repose_angles(s.fpa_model, (fs::path(o.out_dir) / "report.json").string());
   on_rank0(comm, [&] { fs::create_directories(o.out_dir); });
 
   const std::string msh = find_or_make_mesh(s, o, comm, pcout);
@@ -229,6 +217,39 @@ nlohmann::json run_solve(const SolveOptions& o) {
     write_report_section((fs::path(o.out_dir) / "report.json").string(), "continuum", report);
   });
   return report;
+}
+
+}  // namespace
+
+nlohmann::json run_solve(const SolveOptions& o) {
+  SceneReader reader = SceneReader::from_file(o.scene_path);
+  const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
+  ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);
+  // The FPA's angles: the scene's; or the DEM's, handed over by `pilelab run` (one pile or an
+  // ensemble's mean) or, for `pilelab solve` with repose_angle_source = "dem", read from the
+  // DEM's report section.
+  const bool angles_handed_over = apply_measured_pile(o.measured, reader, s);
+  if (s.fpa && s.fpa_model.angles_from_dem && !angles_handed_over)
+    apply_dem_repose_angles(s.fpa_model, (fs::path(o.out_dir) / "report.json").string());
+  return solve_models(s, o, MPI_COMM_WORLD);
+}
+
+nlohmann::json solve_gravity_change(const GravityChange& p, const std::string& out_dir) {
+  ContinuumSettings s;
+  s.fpa = false;
+  s.mesh_file = p.mesh_file;
+  s.density_kg_per_m2 = p.density_kg_per_m2;
+  s.gravity_m_per_s2 = p.gravity_m_per_s2;
+  ElasticSettings& e = s.elastic_model;
+  const double lambda = p.lame_lambda_N_per_m, mu = p.shear_modulus_N_per_m;
+  e.poisson_ratio = lambda / (2.0 * (lambda + mu));
+  e.youngs_modulus_N_per_m = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
+  e.gravity_change = p.gravity_change;
+  SolveOptions o;
+  o.scene_path = "(the closed loop of the fit)";
+  o.out_dir = out_dir;
+  o.quiet = true;
+  return solve_models(s, o, MPI_COMM_SELF);
 }
 
 struct ParallelContext::Impl {

@@ -88,6 +88,8 @@ DemScene read_dem_scene(SceneReader& r) {
   s.time_step = r.get_double("dem.integrator.time_step_s", 0.0, Range::at_least(0.0));
   s.time_step_fraction = r.get_double("dem.integrator.time_step_fraction", s.time_step_fraction, {0.0, 1.0, true});
   s.allow_unstable_time_step = r.get_bool("dem.integrator.allow_unstable_time_step", false);
+  s.neighbour_skin_fraction =
+      r.get_double("dem.integrator.neighbour_skin_fraction", s.neighbour_skin_fraction, {0.0, 10.0, true});
 
   ContainerSpec& k = s.container;
   k.plate_width = r.get_double("dem.container.plate_width_m", k.plate_width, Range::positive());

@@ -59,6 +59,8 @@ struct DemScene {
   double time_step = 0.0;             ///< [s]; 0: time_step_fraction of the stability limit
   double time_step_fraction = 0.8;    ///< default dt as a fraction of the stable limit
   bool allow_unstable_time_step = false;
+  /// Verlet-list skin over the largest grain's bounding radius (WorldSettings): speed only.
+  double neighbour_skin_fraction = 0.3;
   ContainerSpec container;
   PourSpec pour;
   SettleSpec settle;

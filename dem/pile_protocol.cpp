@@ -71,6 +71,7 @@ WorldSettings world_settings(const DemScene& scene, const TimeStepBound& bound, 
   w.contact = scene.contact;
   w.scheme = scene.scheme;
   w.gravity = Vec2(0.0, -scene.gravity);
+  w.neighbour_skin_fraction = scene.neighbour_skin_fraction;
   if (scene.time_step > 0.0) {
     if (scene.time_step > bound.stable_limit && !scene.allow_unstable_time_step) {
       std::ostringstream s;

@@ -59,6 +59,19 @@ TEST_F(Ensemble, SerialProcessesAndMpiRanksPourTheSameMembers) {
 #endif
 }
 
+// srun without its MPI plugin starts each task as an MPI world of its own: every task would run
+// the whole pipeline into the same OUT. A task that srun says is one of several, while MPI sees
+// it alone, is refused before it writes anything.
+TEST_F(Ensemble, SrunTasksThatDoNotSeeEachOtherAreRefused) {
+  const auto r = run("run " + ensemble_scene + " -o " + path("out") + " -q -j 1", "SLURM_STEP_NUM_TASKS=2 SLURM_PROCID=1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("srun --mpi=pmix"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("out/members"))) << "nothing may be poured";
+  // One task of one: the same command runs.
+  const auto one = run("run " + ensemble_scene + " -o " + path("one") + " -q -j 1", "SLURM_STEP_NUM_TASKS=1");
+  EXPECT_EQ(one.exit_code, 0) << one.output;
+}
+
 TEST_F(Ensemble, TheReportHoldsEveryMemberAndTheSampleStatistics) {
   const auto result = run("run " + ensemble_scene + " -o " + path("out") + " -q -P 2");
   ASSERT_EQ(result.exit_code, 0) << result.output;

@@ -181,7 +181,7 @@ void write_models(const std::string& path, const Synthetic& s, double rho_g_fact
 // Compare run in dir, on the fields.h5 and models.h5 written there, with a scene of its own.
 nlohmann::json run_compare_in(const std::string& dir) {
   std::ofstream(dir + "/scene.toml") << "[compare]\nfit_resamples = 10\n";
-  return compare::run_compare({dir + "/scene.toml", dir, std::nullopt});
+  return compare::run_compare({dir + "/scene.toml", dir, std::nullopt, {}});
 }
 
 // The same fields as the DEM, differing only by rounding once put on the DEM's scale.

@@ -1,0 +1,73 @@
+"""The settings of the speed-accuracy study (docs/studies/speed_accuracy.md): each changes one
+knob of base.toml; the others keep the base's values. A setting is
+
+    (name, knob, value label, {scene table: {key: TOML value}})
+
+Every DEM setting is an ensemble of base.toml's 8 seeds. Its error is measured against its
+knob's reference: for the numerical knobs (time step, integrator, settling threshold) the most
+accurate setting, Verlet at the paper's 2e-6 s ("accurate"); for the knobs that change the model
+(corner count, tangential history, pour rate, grain count) the base, which follows the paper.
+"""
+
+DEM = [
+    # name, knob, value, overrides
+    ("base", "reference", "leapfrog, 0.8 of the limit", {}),
+    ("accurate", "reference", "verlet, 2e-6 s (the paper's step)",
+     {"dem.integrator": {"scheme": '"verlet"', "time_step_s": "2e-6"}}),
+    # Time step (leapfrog): the paper's 2e-6 s up to the stability limit.
+    ("dt_2e-6", "time step", "2e-6 s", {"dem.integrator": {"time_step_s": "2e-6"}}),
+    ("dt_4e-6", "time step", "4e-6 s", {"dem.integrator": {"time_step_s": "4e-6"}}),
+    ("dt_8e-6", "time step", "8e-6 s", {"dem.integrator": {"time_step_s": "8e-6"}}),
+    ("dt_f0.5", "time step", "0.5 of the limit", {"dem.integrator": {"time_step_fraction": "0.5"}}),
+    ("dt_f0.95", "time step", "0.95 of the limit", {"dem.integrator": {"time_step_fraction": "0.95"}}),
+    # Integrators, each at 0.8 of its own limit.
+    ("verlet", "integrator", "verlet, 0.8 of its limit", {"dem.integrator": {"scheme": '"verlet"'}}),
+    ("gear5", "integrator", "gear5, 0.8 of its limit", {"dem.integrator": {"scheme": '"gear5"'}}),
+    # Corner count (the paper: 6-8) and discs.
+    ("corners_3", "corners", "3", {"dem.grains": {"corners_min": "3", "corners_max": "3"}}),
+    ("corners_4", "corners", "4", {"dem.grains": {"corners_min": "4", "corners_max": "4"}}),
+    ("corners_12", "corners", "12", {"dem.grains": {"corners_min": "12", "corners_max": "12"}}),
+    ("corners_16", "corners", "16", {"dem.grains": {"corners_min": "16", "corners_max": "16"}}),
+    ("discs", "corners", "discs", {"dem.grains": {"shape": '"disc"'}}),
+    # Tangential history (the paper's eq. A.2 as written is "total").
+    ("history_spring", "tangential history", "spring", {"dem.contact": {"tangential_history": '"spring"'}}),
+    # Pour rate.
+    ("rate_75", "pour rate", "75 grains/s", {"dem.pour": {"rate_grains_per_s": "75.0"}}),
+    ("rate_300", "pour rate", "300 grains/s", {"dem.pour": {"rate_grains_per_s": "300.0"}}),
+    # Settling threshold (kinetic energy per grain).
+    ("settle_1e-6", "settling threshold", "1e-6 J", {"dem.settle": {"kinetic_energy_per_grain_J": "1e-6"}}),
+    ("settle_1e-8", "settling threshold", "1e-8 J", {"dem.settle": {"kinetic_energy_per_grain_J": "1e-8"}}),
+    # Grain count.
+    ("grains_400", "grain count", "400", {"dem": {"grain_count": "400"}}),
+    ("grains_1600", "grain count", "1600", {"dem": {"grain_count": "1600"}}),
+]
+
+# The neighbour skin changes only the speed (the pairs tested exactly are the same for any
+# skin): one pile each, whose grains must end where the default skin's (the first) do, exactly.
+SKIN = [
+    ("skin_0.3", "neighbour skin", "0.3 (default)", {}),
+    ("skin_0.1", "neighbour skin", "0.1", {"dem.integrator": {"neighbour_skin_fraction": "0.1"}}),
+    ("skin_1.0", "neighbour skin", "1.0", {"dem.integrator": {"neighbour_skin_fraction": "1.0"}}),
+]
+
+# Later stages on the base ensemble's members: no pouring.
+LATER = [
+    ("rve_30", "RVE size", "30 grains", {"coarse": {"rve_grain_count": "30"}}),
+    ("rve_60", "RVE size", "60 grains (base)", {}),
+    ("rve_120", "RVE size", "120 grains", {"coarse": {"rve_grain_count": "120"}}),
+    ("rve_study", "RVE size", "the RVE study's choice", {"coarse": {"rve_grain_count": "0"}}),
+    ("kernel_gaussian", "coarse-graining window", "gaussian kernel", {"coarse": {"method": '"gaussian"'}}),
+    ("kernel_lucy", "coarse-graining window", "Lucy kernel", {"coarse": {"method": '"lucy"'}}),
+    ("mesh_0.012", "mesh size", "0.012 m", {"mesh": {"element_size_m": "0.012"}}),
+    ("mesh_0.003", "mesh size", "0.003 m", {"mesh": {"element_size_m": "0.003"}}),
+    ("degree_1", "element degree", "P1", {"continuum.elastic": {"degree": "1"}, "continuum.fpa": {"degree": "1"}}),
+]
+
+# Which setting each knob's errors are measured against.
+REFERENCE = {
+    "time step": "accurate", "integrator": "accurate", "settling threshold": "settle_1e-8",
+    "corners": "base", "tangential history": "base", "pour rate": "base", "grain count": "base",
+    "reference": "accurate",
+    "RVE size": "rve_study", "coarse-graining window": "rve_60", "mesh size": "mesh_0.003",
+    "element degree": "rve_60",
+}

@@ -1,0 +1,225 @@
+#!/usr/bin/python3
+"""The speed-accuracy study's table and Pareto figure, from its measurements alone
+(docs/studies/speed_accuracy/data/*.json, written by run.py): docs/studies/speed_accuracy.md's
+table between its markers, and docs/studies/speed_accuracy/pareto.png.
+
+    /usr/bin/python3 studies/speed_accuracy/tables.py [--data DIR] [--doc FILE] [--figures DIR]
+
+Each setting is compared with its knob's reference (settings.REFERENCE). A difference of two
+ensembles' means carries the standard error sqrt(se1^2 + se2^2); the difference of two base
+pressure profiles is a relative L2 norm over the bins both have, corrected for the noise both
+profiles carry: sqrt(max(0, sum d^2 - sum (se1^2 + se2^2))) / |p_ref|, beside its noise floor
+sqrt(sum (se1^2 + se2^2)) / |p_ref|, the value two ensembles of one setting would show. A
+knob's effect counts when it exceeds two standard errors (or, for the profile, two noise floors).
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import settings as study  # noqa: E402
+
+
+def load(data):
+    out = {}
+    for path in sorted(glob.glob(os.path.join(data, "*.json"))):
+        with open(path, encoding="utf-8") as f:
+            d = json.load(f)
+        out[d["name"]] = d
+    return out
+
+
+def cost(d):
+    """DEM wall time per pile on one core (mean, SE), or the later stages' time."""
+    if "members" not in d:
+        return d.get("wall_time_s"), None
+    t = np.array([m["wall_time_s"] for m in d["members"]])
+    return float(t.mean()), float(t.std(ddof=1) / np.sqrt(len(t))) if len(t) > 1 else None
+
+
+def later_cost(d):
+    q = d["quantities"]
+    return sum(q.get(k, [0.0])[0] or 0.0 for k in ("coarse_wall_time_s", "elastic_wall_time_s", "fpa_wall_time_s"))
+
+
+def difference(d, ref, key, relative=False):
+    a, sa = d["quantities"].get(key, [None, None])
+    b, sb = ref["quantities"].get(key, [None, None])
+    if a is None or b is None or sa is None or sb is None:
+        return None, None
+    diff, se = a - b, float(np.hypot(sa, sb))
+    if relative:
+        return diff / b, se / abs(b)
+    return diff, se
+
+
+def profile_l2(d, ref):
+    p, q = d["base_profile"], ref["base_profile"]
+    a, sa, b, sb = (np.array(x, dtype=float) for x in (p["value"], p["stderr"], q["value"], q["stderr"]))
+    ok = np.isfinite(a) & np.isfinite(b) & np.isfinite(sa) & np.isfinite(sb) & (np.abs(np.array(p["x_over_R"])) < 0.9)
+    if ok.sum() < 3:
+        return None, None
+    norm = np.sqrt(np.sum(b[ok] ** 2))
+    noise = np.sum(sa[ok] ** 2 + sb[ok] ** 2)
+    return float(np.sqrt(max(0.0, np.sum((a[ok] - b[ok]) ** 2) - noise)) / norm), float(np.sqrt(noise) / norm)
+
+
+def fmt(v, s, digits=2, scale=1.0):
+    if v is None or not np.isfinite(v):
+        return "-"
+    if s is None or not np.isfinite(s):
+        return f"{v * scale:.{digits}f}"
+    return f"{v * scale:+.{digits}f} ± {s * scale:.{digits}f}"
+
+
+def rows(results):
+    out = []
+    order = [s[0] for s in study.DEM] + [s[0] for s in study.LATER]
+    for name in order:
+        d = results.get(name)
+        if d is None:
+            continue
+        ref_name = study.REFERENCE[d["knob"]]
+        ref = results.get(ref_name)
+        later = name in {s[0] for s in study.LATER}
+        t, ts = (later_cost(d), None) if later else cost(d)
+        t_ref = (later_cost(ref) if later else cost(ref)[0]) if ref else None
+        cells = {"knob": d["knob"], "setting": d["value"], "reference": ref_name,
+                 "time": f"{t:.1f}" + (f" ± {ts:.1f}" if ts else "") + (" (later stages)" if later else ""),
+                 "speed": f"{t_ref / t:.2f}" if t_ref and t else "-"}
+        flags = []
+
+        def counted(v, s, label):
+            if v is not None and s is not None and abs(v) > 2 * s:
+                flags.append(label)
+
+        if ref is not None and ref is not d:
+            for key, label, digits, rel in (("repose_angle_pile_mean_deg", "angle", 1, False),
+                                            ("stress_tilt_flanks_deg", "tilt", 1, False),
+                                            ("fabric_trace_core", "tr F", 1, True),
+                                            ("volume_fraction_core", "nu", 1, True),
+                                            ("fit_E_N_per_m", "E", 0, True)):
+                v, s = difference(d, ref, key, rel)
+                cells[key] = fmt(v, s, digits, 100.0 if rel else 1.0)
+                if key != "fit_E_N_per_m":
+                    counted(v, s, label)
+            l2, floor = profile_l2(d, ref)
+            cells["profile"] = "-" if l2 is None else f"{l2:.3f} (noise {floor:.3f})"
+            if l2 is not None and l2 > 2 * floor:
+                flags.append("base profile")
+            for model in ("elastic", "fpa"):
+                v, s = difference(d, ref, f"{model}_relative_l2_stress_yy")
+                cells[f"{model}_l2"] = fmt(v, s, 3)
+        else:
+            for key in ("repose_angle_pile_mean_deg", "stress_tilt_flanks_deg", "fabric_trace_core",
+                        "volume_fraction_core", "fit_E_N_per_m", "profile", "elastic_l2", "fpa_l2"):
+                cells[key] = "(reference)" if ref is d else "-"
+        lost = 0 if later else sum(m["lost"] for m in d.get("members", []))
+        if ref is None:
+            cells["verdict"] = "its reference is not measured yet"
+        else:
+            cells["verdict"] = ("differs: " + ", ".join(flags) if flags else "no effect beyond 2 SE") if ref is not d else "-"
+        if lost:
+            cells["verdict"] += f"; {lost} grains lost"
+        out.append(cells)
+    return out
+
+
+COLUMNS = [("knob", "knob"), ("setting", "setting"), ("reference", "against"),
+           ("time", "time per pile (s, 1 core)"), ("speed", "speed-up"),
+           ("repose_angle_pile_mean_deg", "Δ repose angle (deg)"), ("profile", "base sigma_yy, rel. L2"),
+           ("stress_tilt_flanks_deg", "Δ stress tilt, flanks (deg)"), ("fabric_trace_core", "Δ tr F, core (%)"),
+           ("volume_fraction_core", "Δ nu, core (%)"), ("fit_E_N_per_m", "Δ fitted E (%)"),
+           ("elastic_l2", "Δ elastic L2"), ("fpa_l2", "Δ FPA L2"), ("verdict", "verdict")]
+
+
+def markdown(results, table):
+    skin = [results[s[0]] for s in study.SKIN if s[0] in results]
+    lines = ["| " + " | ".join(h for _, h in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
+    lines += ["| " + " | ".join(str(r.get(k, "-")) for k, _ in COLUMNS) + " |" for r in table]
+    if skin:
+        lines += ["", "Neighbour skin (one pile each, seed 1; the grains must end where the default skin's do):", "",
+                  "| skin | time (s, 1 core) | list builds | particle-steps/s | same grains as 0.3 |", "|---|---|---|---|---|"]
+        for d in skin:
+            lines.append(f"| {d['value']} | {d['wall_time_s']:.1f} | {d.get('neighbour_list_builds', '-')} | "
+                         f"{d['particle_steps_per_s']:.3g} | {d.get('same_grain_positions_as_default_skin', '(reference)')} |")
+    missing = [s[0] for s in study.DEM + study.LATER + study.SKIN if s[0] not in results]
+    if missing:
+        lines += ["", f"Not yet measured: {', '.join(missing)}."]
+    return "\n".join(lines) + "\n"
+
+
+def pareto(results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    knobs = sorted({d["knob"] for d in results.values() if "members" in d})
+    colours = {k: plt.get_cmap("tab10")(i % 10) for i, k in enumerate(knobs)}
+    for ax, key, label in ((axes[0], "profile", "base sigma_yy: relative L2 against the reference"),
+                           (axes[1], "repose_angle_pile_mean_deg", "|Δ repose angle| (deg)")):
+        for name, d in results.items():
+            if "members" not in d:
+                continue
+            ref = results.get(study.REFERENCE[d["knob"]])
+            if ref is None or ref is d:
+                continue
+            t, ts = cost(d)
+            if key == "profile":
+                v, s = profile_l2(d, ref)
+            else:
+                v, s = difference(d, ref, key)
+                v = abs(v) if v is not None else None
+            if v is None:
+                continue
+            ax.errorbar(t, v, xerr=ts, yerr=s, fmt="o", ms=4, color=colours[d["knob"]], capsize=2)
+            ax.annotate(name, (t, v), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_xlabel("DEM wall time per pile (s, one core)")
+        ax.set_ylabel(label)
+    for k, c in colours.items():
+        axes[0].plot([], [], "o", color=c, label=k)
+    axes[0].legend(fontsize=6)
+    n = max((len(d["members"]) for d in results.values() if "members" in d), default=0)
+    fig.suptitle(f"Speed against accuracy: one point per setting, {n} piles each; error bars one SE "
+                 "(the profile's: its noise floor)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path + ".tmp.png", dpi=110)
+    os.replace(path + ".tmp.png", path)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    base = os.path.join(ROOT, "docs", "studies", "speed_accuracy")
+    parser.add_argument("--data", default=os.path.join(base, "data"))
+    parser.add_argument("--doc", default=os.path.join(ROOT, "docs", "studies", "speed_accuracy.md"))
+    parser.add_argument("--figures", default=base)
+    args = parser.parse_args()
+    results = load(args.data)
+    if not results:
+        sys.exit(f"tables.py: no measurements in {args.data} (run studies/speed_accuracy/run.py)")
+    text = markdown(results, rows(results))
+    with open(args.doc, encoding="utf-8") as f:
+        doc = f.read()
+    begin, end = "<!-- table: studies/speed_accuracy/tables.py -->\n", "<!-- end of table -->"
+    if begin not in doc or end not in doc:
+        sys.exit(f"{args.doc}: no table markers ({begin.strip()} ... {end})")
+    doc = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda _: begin + text + end, doc, flags=re.S)
+    with open(args.doc + ".tmp", "w", encoding="utf-8") as f:
+        f.write(doc)
+    os.replace(args.doc + ".tmp", args.doc)
+    os.makedirs(args.figures, exist_ok=True)
+    pareto(results, os.path.join(args.figures, "pareto.png"))
+    print(f"tables.py: {len(results)} settings -> {args.doc}, {args.figures}/pareto.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -150,10 +150,29 @@ void FpaProblem::compute_base_force() {
   std::vector<Vector<double>> cell_values(quadrature.size(), Vector<double>(2));
   std::vector<std::vector<Tensor<1, 2>>> grads(quadrature.size(), std::vector<Tensor<1, 2>>(2));
   const double rho_g = density_ * gravity_;
-  double fy = 0, fx = 0, area = 0, J = 0, minor_area = 0;
+  double fy = 0, fx = 0, area = 0, J = 0, minor_area = 0, surface = 0, outflow = 0;
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
     area += cell->measure();
+    // Free-surface faces through which a characteristic leaves the pile. On side s the two
+    // characteristics run downwards along (s sin psi, -cos psi) and (-s cos psi, -sin psi); a
+    // face whose outward normal has a positive component along either is an outflow face.
+    for (const auto f : cell->face_indices()) {
+      if (!cell->face(f)->at_boundary() || !is_free_surface(cell->face(f)->boundary_id())) continue;
+      const Point<2> a = cell->face(f)->vertex(0), b = cell->face(f)->vertex(1);
+      Tensor<1, 2> n;
+      n[0] = b[1] - a[1];
+      n[1] = a[0] - b[0];
+      if (n * (cell->face(f)->center() - cell->center()) < 0) n = -n;  // outward
+      const double length = n.norm();
+      const bool right = cell->face(f)->center()[0] > apex_x_;
+      const double s = right ? 1.0 : -1.0;
+      const double psi = M_PI / 4 - 0.5 * (right ? settings_.right_repose_angle_deg : settings_.left_repose_angle_deg) * degree_to_rad;
+      const double along_1 = s * std::sin(psi) * n[0] - std::cos(psi) * n[1];
+      const double along_2 = -s * std::cos(psi) * n[0] - std::sin(psi) * n[1];
+      surface += length;
+      if (along_1 > 1e-12 * length || along_2 > 1e-12 * length) outflow += length;
+    }
     const double k = closure_coefficient(*cell);
     fe_values.reinit(cell);
     fe_values.get_function_gradients(solution_, grads);
@@ -183,6 +202,8 @@ void FpaProblem::compute_base_force() {
   result_.weight = rho_g * Utilities::MPI::sum(area, comm_);
   result_.residual_norm = std::sqrt(Utilities::MPI::sum(J, comm_));
   result_.minor_axis_fixed_area_fraction = Utilities::MPI::sum(minor_area, comm_) / Utilities::MPI::sum(area, comm_);
+  const double surface_length = Utilities::MPI::sum(surface, comm_);
+  result_.outflow_surface_length_fraction = surface_length > 0 ? Utilities::MPI::sum(outflow, comm_) / surface_length : 0.0;
 }
 
 bool FpaProblem::stress_at(const Point<2>& p, Stress2& stress) const {

@@ -47,6 +47,11 @@ struct FpaResult : ModelResult {
   /// p_xy has the other side's sign the most compressive axis is perpendicular to the intended
   /// one (near the axis on the shallower side of an asymmetric pile; docs/CONTINUUM.md).
   double minor_axis_fixed_area_fraction = 0;
+  /// Fraction of the free surface's length through which a characteristic (a principal
+  /// direction, followed downwards) leaves the pile: a step of the outline steeper than the
+  /// characteristic. The stress jumps across the characteristic that re-enters below such a
+  /// step, which continuous elements cannot represent (docs/CONTINUUM.md).
+  double outflow_surface_length_fraction = 0;
 };
 
 class FpaProblem {

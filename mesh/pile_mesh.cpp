@@ -205,6 +205,8 @@ MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
     spec.dem_file = std::filesystem::path(dem_file).is_absolute() ? dem_file
                                                                   : (std::filesystem::path(scene_dir) / dem_file).string();
   spec.dem_snapshot = r.get_string("mesh.dem_snapshot", spec.dem_snapshot);
+  spec.outline_smoothing_grains =
+      r.get_double("mesh.outline_smoothing_grains", spec.outline_smoothing_grains, Range::closed(0.0, 100.0));
   spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
   spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
   spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);
@@ -236,23 +238,29 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
       break;
     case MeshSpec::Kind::dem_outline: {
       const double tolerance = spec.element_size_m / 4;
+      double diameter = 0;  // the piles' mean grain diameter
       const auto outline_of = [&](const std::string& path) {
         const dem::DemFile file = dem::read_dem_file(path);
-        return outline_of_pile(file, file.snapshot(spec.dem_snapshot), spec.element_size_m, tolerance);
+        const dem::Snapshot snapshot = file.snapshot(spec.dem_snapshot);
+        diameter = std::max(diameter, mean_grain_diameter(file, snapshot));
+        return outline_of_pile(file, snapshot, spec.element_size_m, tolerance);
       };
       if (!spec.dem_files.empty()) {
-        // An ensemble: the members' mean surface, simplified like one pile's.
+        // An ensemble: the members' mean surface.
         std::vector<Outline> members;
         for (const std::string& path : spec.dem_files) members.push_back(outline_of(path));
         outline = mean_outline(members, spec.element_size_m);
-        outline.surface = simplify_polyline(outline.surface, tolerance);
-        outline.apex_index = 0;
-        for (int i = 1; i + 1 < static_cast<int>(outline.surface.size()); ++i)
-          if (outline.surface[i].y() > outline.surface[outline.apex_index].y()) outline.apex_index = i;
       } else {
         if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
         outline = outline_of(spec.dem_file);
       }
+      // Smoothed over a few grains, then simplified: no surface point moves by more than the
+      // tolerance from the smoothed surface, which keeps tiny edges out of the mesh.
+      outline = smoothed_outline(outline, spec.outline_smoothing_grains * diameter);
+      outline.surface = simplify_polyline(outline.surface, tolerance);
+      outline.apex_index = 0;
+      for (int i = 1; i + 1 < static_cast<int>(outline.surface.size()); ++i)
+        if (outline.surface[i].y() > outline.surface[outline.apex_index].y()) outline.apex_index = i;
       area = outline_area(outline);
       break;
     }

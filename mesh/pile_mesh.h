@@ -50,6 +50,9 @@ struct MeshSpec {
   std::string dem_file;                 ///< kind == dem_outline: the dem.h5 whose pile is meshed
   std::vector<std::string> dem_files;   ///< kind == dem_outline, an ensemble: the mean outline of these
   std::string dem_snapshot = "settled";
+  /// kind == dem_outline: the surface's height averaged over this many mean grain diameters
+  /// (smoothed_outline); 0 keeps the grains' own steps.
+  double outline_smoothing_grains = 3.0;
   double element_size_m = 0.02;         ///< target edge length
   double axis_element_size_m = 0.0;     ///< near the vertical axis through the apex (0: same)
   bool embed_axis = true;               ///< element edges follow the axis (the FPA kink)

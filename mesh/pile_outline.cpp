@@ -78,6 +78,42 @@ Outline mean_outline(const std::vector<Outline>& outlines, double spacing) {
   return mean;
 }
 
+Outline smoothed_outline(const Outline& outline, double width) {
+  const std::vector<dem::Vec2>& h = outline.surface;
+  if (!(width > 0) || h.size() < 3) return outline;
+  // The integral H(x) of h from the left foot, exact at the polyline's corners (h is linear
+  // between them); the window's mean is (H(x + w/2) - H(x - w/2)) / w.
+  std::vector<double> integral(h.size(), 0.0);
+  for (std::size_t i = 1; i < h.size(); ++i)
+    integral[i] = integral[i - 1] + 0.5 * (h[i].y() + h[i - 1].y()) * (h[i].x() - h[i - 1].x());
+  const auto H = [&](double x) {
+    if (x <= h.front().x()) return 0.0;
+    if (x >= h.back().x()) return integral.back();
+    const auto right = std::upper_bound(h.begin(), h.end(), x, [](double v, const dem::Vec2& p) { return v < p.x(); });
+    const std::size_t i = static_cast<std::size_t>(right - h.begin()) - 1;
+    const double y = height_at(h, x);
+    return integral[i] + 0.5 * (h[i].y() + y) * (x - h[i].x());
+  };
+  const double left = h.front().x() - 0.5 * width, right = h.back().x() + 0.5 * width;
+  const int intervals = std::max(2, static_cast<int>(std::ceil((right - left) / (width / 16))));
+  Outline smooth;
+  for (int i = 0; i <= intervals; ++i) {
+    const double x = i == intervals ? right : left + (right - left) * i / intervals;
+    const double y = i == 0 || i == intervals ? 0.0 : (H(x + 0.5 * width) - H(x - 0.5 * width)) / width;
+    smooth.surface.emplace_back(x, std::max(y, 0.0));
+    if (y > smooth.surface[smooth.apex_index].y()) smooth.apex_index = i;
+  }
+  return smooth;
+}
+
+double mean_grain_diameter(const dem::DemFile& file, const dem::Snapshot& snapshot) {
+  double sum = 0;
+  const std::size_t n = snapshot.grain_count();
+  for (std::size_t g = 0; g < n; ++g)
+    sum += 2.0 * std::sqrt(file.shapes.at(static_cast<std::size_t>(snapshot.body[g])).area / M_PI);
+  return n ? sum / n : 0.0;
+}
+
 Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot, double strip_width,
                         double tolerance) {
   const std::size_t n = snapshot.grain_count();

@@ -21,6 +21,16 @@ Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot,
 /// simplifies. Throws InputError when the list is empty.
 Outline mean_outline(const std::vector<Outline>& outlines, double spacing);
 
+/// The outline with its height h(x) replaced by its mean over a window of the given width
+/// (a moving average; h is 0 beyond the feet, so the toes spread by half the window). The
+/// steps and notches of single grains along a flank, which a mesh would have to follow and
+/// which the FPA's characteristics leave the pile through (docs/CONTINUUM.md), are smoothed to
+/// the window's scale; a straight flank stays straight. Sampled every width / 16.
+Outline smoothed_outline(const Outline& outline, double width);
+
+/// The grains' mean area-equivalent diameter, 2 sqrt(A / pi), in a snapshot [m].
+double mean_grain_diameter(const dem::DemFile& file, const dem::Snapshot& snapshot);
+
 /// Douglas-Peucker simplification of an open polyline; the end points are kept.
 std::vector<dem::Vec2> simplify_polyline(const std::vector<dem::Vec2>& points, double tolerance);
 

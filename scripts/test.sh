@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Sets up and builds (scripts/setup.sh), then runs the whole test suite with CTest.
+# Sets up and builds (scripts/setup.sh), runs the whole test suite with CTest, then the reduced
+# set under AddressSanitizer and UndefinedBehaviorSanitizer (scripts/sanitize.sh --ci).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 if ctest --test-dir build --output-on-failure -j2 --timeout 600; then
+  bash scripts/sanitize.sh --ci
   exit 0
 fi
 # A long log shows only in part; repeat what each failed test printed (its last 60 lines) at the

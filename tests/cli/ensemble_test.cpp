@@ -50,7 +50,11 @@ TEST_F(Ensemble, SerialProcessesAndMpiRanksPourTheSameMembers) {
   EXPECT_TRUE(same_bytes(path("serial") + "/fields.h5", path("processes") + "/fields.h5"));
   EXPECT_TRUE(same_bytes(path("serial") + "/pile.msh", path("processes") + "/pile.msh"));
 #ifdef PILELAB_MPIEXEC
-  const auto ranks = run(std::string(PILELAB_MPIEXEC) + " --allow-run-as-root --oversubscribe -np 2 " + PILELAB_BINARY +
+  // Under the sanitizers, the ranks check memory errors but not leaks: Open MPI's plugins leave
+  // allocations at exit from code it has unloaded by then, which no suppression can name
+  // (docs/RELIABILITY.md). The variable means nothing to an uninstrumented build.
+  const auto ranks = run(std::string(PILELAB_MPIEXEC) + " --allow-run-as-root --oversubscribe -x ASAN_OPTIONS=detect_leaks=0 -np 2 " +
+                             PILELAB_BINARY +
                              " run " + ensemble_scene + " -o " + path("ranks") + " -q",
                          "", /*prefix_binary=*/false);
   ASSERT_EQ(ranks.exit_code, 0) << ranks.output;

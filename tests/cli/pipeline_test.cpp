@@ -42,6 +42,12 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
     EXPECT_EQ(fpa["right_repose_angle_deg"].get<double>(), report["dem"]["repose_angle_right_deg"].get<double>());
     EXPECT_EQ(report["continuum"]["density_kg_per_m2"].get<double>(), report["coarse"]["rho_bulk_kg_per_m2"].get<double>());
     EXPECT_EQ(report["continuum"]["gravity_m_per_s2"].get<double>(), report["coarse"]["gravity_m_per_s2"].get<double>());
+    // The FPA on the pile's own outline: the weight it misses is its squared residual exactly
+    // (docs/CONTINUUM.md), and on the smoothed outline it carries the weight to the level below
+    // which the run warns.
+    const double carried = fpa["base_force_over_weight"].get<double>(), e = fpa["equilibrium_residual_over_weight"].get<double>();
+    EXPECT_NEAR(1 - carried, e * e, 1e-9);
+    EXPECT_GE(carried, 0.99) << "outflow surface fraction " << fpa["outflow_surface_length_fraction"];
   }
 #endif
 

@@ -1,6 +1,7 @@
 // Failures of the machine and of the numbers end in a clear message and a non-zero exit, never
-// a crash: a full disk (a file-size limit standing in for it, so no mount is needed), a time
-// step far above the stability limit forced through, and an empty scene.
+// a crash: a full disk (a file-size limit, and a real small tmpfs where mounting is allowed), a
+// read-only file system, a time step far above the stability limit forced through, and an
+// empty scene.
 #include <filesystem>
 
 #include "../cli/cli_test_support.h"
@@ -34,6 +35,47 @@ TEST_F(Reliability, AFullDiskIsAClearErrorWithoutACrash) {
     EXPECT_FALSE(std::filesystem::exists(out + "/dem.h5"));
     expect_no_temporary_files(out);
   }
+}
+
+// A small tmpfs mounted for one test, unmounted when it ends; where mounting is not allowed (not
+// root, no CAP_SYS_ADMIN in a container) the test skips, saying so.
+class MountedTmpfs {
+ public:
+  MountedTmpfs(const std::string& dir, const std::string& options) : dir_(dir) {
+    std::filesystem::create_directories(dir);
+    mounted_ = std::system(("mount -t tmpfs -o " + options + " tmpfs " + dir + " 2>/dev/null").c_str()) == 0;
+  }
+  ~MountedTmpfs() {
+    if (mounted_) (void)std::system(("umount " + dir_).c_str());
+  }
+  bool mounted() const { return mounted_; }
+
+ private:
+  std::string dir_;
+  bool mounted_ = false;
+};
+
+TEST_F(Reliability, ARealFullDiskIsAClearErrorWithoutACrash) {
+  // A 96 KiB file system: the frames and the first checkpoints fit, dem.h5 does not.
+  const MountedTmpfs disk(path("disk"), "size=96k");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  const std::string out = path("disk/out");
+  const auto r = run("dem " + write_scene("tiny.toml", tiny_scene()) + " -o " + out + " -q -j 1");
+  EXPECT_EQ(r.exit_code, 2) << "expected a clear error (exit code 2), not a crash:\n" << r.output;
+  EXPECT_NE(r.output.find("pilelab: error: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(out), std::string::npos) << "the message should name the file:\n" << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out + "/dem.h5"));
+  expect_no_temporary_files(out);
+}
+
+TEST_F(Reliability, AReadOnlyFileSystemIsFoundBeforeTheRun) {
+  const MountedTmpfs disk(path("readonly"), "size=64k,ro");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  const auto r = run("dem " + write_scene("tiny.toml", tiny_scene()) + " -o " + path("readonly/out") + " -q -j 1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(path("readonly/out")), std::string::npos) << "the message should name the folder:\n" << r.output;
+  EXPECT_NE(r.output.find("Read-only file system"), std::string::npos) << "and the system's reason:\n" << r.output;
+  EXPECT_EQ(r.output.find("[pour"), std::string::npos) << "nothing may be poured first:\n" << r.output;
 }
 
 TEST_F(Reliability, ATimeStepFarAboveTheLimitStopsWithTheFirstBadGrain) {

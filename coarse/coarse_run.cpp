@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -466,6 +467,22 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     throw InputError(m.str());
   };
   if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "");
+  // An RVE must hold grains: below one grain diameter most windows hold no grain's centre and
+  // the fields are empty (the paper's RVEs hold 100-200). One larger than the pile averages the
+  // whole pile at every point: finite, uniform, and said so.
+  if (settings.rve_radius_m > 0 && settings.rve_radius_m < diameter) {
+    std::ostringstream m;
+    m << opt.scene_path << ": coarse.rve_radius_m is " << settings.rve_radius_m
+      << " m, smaller than the mean grain diameter " << diameter
+      << " m: such an RVE holds at most one grain (the paper's hold 100-200); allowed: >= " << diameter
+      << " m, or 0 to size it by coarse.rve_grain_count";
+    throw InputError(m.str());
+  }
+  if (settings.rve_radius_m > set.mean_height)
+    std::fprintf(stderr,
+                 "warning: coarse.rve_radius_m = %g m exceeds the pile's height %g m: the RVEs reach beyond the pile, "
+                 "and far from the pile's centre each averages most of it, so the fields are smoothed flat\n",
+                 settings.rve_radius_m, set.mean_height);
 
   // 2. RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count;
   // it chooses the window's size unless the scene sets it.

@@ -210,7 +210,8 @@ MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
   spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
   spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
   spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);
-  spec.embed_rays = r.get_bool("mesh.embed_fpa_rays", spec.embed_rays);
+  // On by default wherever the mesh allows (a wedge split at its axis): the FPA is then exact.
+  spec.embed_rays = r.get_bool("mesh.embed_fpa_rays", spec.kind == MeshSpec::Kind::wedge && spec.embed_axis);
   if (spec.embed_rays && (spec.kind != MeshSpec::Kind::wedge || !spec.embed_axis))
     throw InputError(r.source() + ": mesh.embed_fpa_rays needs mesh.kind = \"wedge\" and mesh.embed_axis = true");
   return spec;
@@ -237,19 +238,25 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
       area = spec.block.width_m * spec.block.height_m;
       break;
     case MeshSpec::Kind::dem_outline: {
-      const double tolerance = spec.element_size_m / 4;
+      // Strips of one element, or of one grain where elements are larger than grains (a coarse
+      // mesh still follows the pile's shape); the polyline keeps every feature above a quarter
+      // of that.
       double diameter = 0;  // the piles' mean grain diameter
+      double tolerance = spec.element_size_m / 4;
       const auto outline_of = [&](const std::string& path) {
         const dem::DemFile file = dem::read_dem_file(path);
         const dem::Snapshot snapshot = file.snapshot(spec.dem_snapshot);
-        diameter = std::max(diameter, mean_grain_diameter(file, snapshot));
-        return outline_of_pile(file, snapshot, spec.element_size_m, tolerance);
+        const double d = mean_grain_diameter(file, snapshot);
+        diameter = std::max(diameter, d);
+        const double strip = std::min(spec.element_size_m, d > 0 ? d : spec.element_size_m);
+        tolerance = std::min(tolerance, strip / 4);
+        return outline_of_pile(file, snapshot, strip, strip / 4);
       };
       if (!spec.dem_files.empty()) {
         // An ensemble: the members' mean surface.
         std::vector<Outline> members;
         for (const std::string& path : spec.dem_files) members.push_back(outline_of(path));
-        outline = mean_outline(members, spec.element_size_m);
+        outline = mean_outline(members, std::min(spec.element_size_m, diameter));
       } else {
         if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
         outline = outline_of(spec.dem_file);

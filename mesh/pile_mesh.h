@@ -56,7 +56,8 @@ struct MeshSpec {
   double element_size_m = 0.02;         ///< target edge length
   double axis_element_size_m = 0.0;     ///< near the vertical axis through the apex (0: same)
   bool embed_axis = true;               ///< element edges follow the axis (the FPA kink)
-  bool embed_rays = false;              ///< wedge: also the FPA characteristics from the apex,
+  bool embed_rays = false;              ///< wedge: also the FPA characteristics from the apex (the
+                                        ///< scene's default: on for wedges),
                                         ///< psi = 45 - phi/2 from the vertical (kinks of its stress)
 };
 

@@ -70,9 +70,11 @@ double exact_base_pressure(double phi, double x) { return fpa_symmetric_wedge_st
 // The exact solution is linear in each of the four sectors between the flanks, the two rays
 // |x| = (h - y) tan(psi) and the axis. On a mesh with those lines as edges it lies in the P1 and
 // P2 spaces, the least-squares functional vanishes there, and the unique minimiser is the exact
-// solution: the error must be at the level of round-off.
+// solution: the error must be at the level of round-off. The extremes of the angle of repose
+// (5 and 44 degrees: a flat heap with its characteristics nearly horizontal, psi = 42.5, and a
+// steep one with psi = 23) included.
 TEST(FpaWedge, ExactOnMeshAlignedWithTheCharacteristics) {
-  for (double phi : {28.0, 21.0, 35.0}) {
+  for (double phi : {28.0, 21.0, 35.0, 5.0, 44.0}) {
     const double ray = h * std::tan((45 - phi / 2) * deg);
     for (int p : {1, 2}) {
       auto tria = fan_wedge(phi, phi, {-ray, 0.0, ray}, 3);

@@ -10,7 +10,10 @@
 // DIR/checkpoint.h5 of the scene DIR/scene.toml and runs the whole protocol step (world plus
 // inflow), e.g. DIR = bench/data/paper_pour_seed1_t35 (the paper pile of seed 1 at t = 35 s:
 // 5250 of its 6500 grains poured); without it the benchmark is skipped.
+// PILELAB_BENCH_GRAINS=N builds the synthetic heap of N grains instead of 6500 (the extremes'
+// 50 000-grain pile), and PILELAB_BENCH_SETTLE_S the time it is let fall together (0.6 s).
 // Threads: OMP_NUM_THREADS.
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <thread>
@@ -40,25 +43,34 @@ WorldSettings paper_settings(Scheme scheme, double stable_limit) {
   return s;
 }
 
+double environment_number(const char* name, double fallback) {
+  const char* text = std::getenv(name);
+  return text ? std::atof(text) : fallback;
+}
+
 World synthetic_pile(Scheme scheme) {
   Rng rng(1);
   GrainSpec spec;
   std::vector<Shape> shapes;
-  for (int i = 0; i < 6500; ++i) shapes.push_back(random_grain(spec, rng));
+  const int grains = static_cast<int>(environment_number("PILELAB_BENCH_GRAINS", 6500));
+  for (int i = 0; i < grains; ++i) shapes.push_back(random_grain(spec, rng));
   const double verlet_limit = stable_time_step(shapes, 5000.0, ContactParameters{}, Scheme::verlet).stable_limit;
   World w(paper_settings(Scheme::verlet, verlet_limit));
   // make_polygon centres the shape on its centroid: place it so that its top is y = 0.
-  w.add_wall(make_polygon({{-1.0, -0.02}, {1.0, -0.02}, {1.0, 0.0}, {-1.0, 0.0}}), {0, -0.01}, 0.0);
   // A triangle of grains on a lattice wider than the largest grain (7.8 mm), like a pile of the
-  // paper's size, which gravity then packs.
+  // paper's size (110 lattice columns either side for 6500 grains), which gravity then packs.
+  const int half = grains == 6500 ? 110 : static_cast<int>(std::ceil(1.37 * std::sqrt(double(grains))));
+  const double plate = grains == 6500 ? 1.0 : 0.0082 * half + 0.1;
+  w.add_wall(make_polygon({{-plate, -0.02}, {plate, -0.02}, {plate, 0.0}, {-plate, 0.0}}), {0, -0.01}, 0.0);
   int placed = 0;
-  for (int row = 0; placed < 6500; ++row)
-    for (int col = -(110 - row); col <= 110 - row && placed < 6500; ++col) {
+  for (int row = 0; placed < grains; ++row)
+    for (int col = -(half - row); col <= half - row && placed < grains; ++col) {
       const int id = w.add_grain(shapes[placed], 5000.0);
       w.activate(id, {0.0082 * col + 0.0041 * (row % 2), 0.0045 + 0.0082 * row}, rng.uniform(0, 2 * M_PI), {0, 0}, 0.0);
       ++placed;
     }
-  while (w.time() < 0.6) w.step();  // let the lattice collapse into a packed heap (cheaply)
+  const double settle = environment_number("PILELAB_BENCH_SETTLE_S", 0.6);
+  while (w.time() < settle) w.step();  // let the lattice collapse into a packed heap (cheaply)
   if (const char* path = std::getenv("PILELAB_BENCH_SAVE"))
     write_dem_file(path, "", w, {take_snapshot(w, "settled")}, nlohmann::json::object());
   w.set_time_integration(scheme, 0.8 * stable_time_step(shapes, 5000.0, ContactParameters{}, scheme).stable_limit);

@@ -199,16 +199,20 @@ class Rows(list):
         super().__init__()
         self.e = e
 
-    def add(self, finding, paper, function, verdict, digits=2, note="", shift=0.0):
-        """One number: function(Fields) -> float, shown minus `shift`."""
+    def add(self, finding, paper, function, verdict, digits=2, note="", shift=0.0, resolution=0.0):
+        """One number: function(Fields) -> float, shown minus `shift`. A statistic that can take
+        only values `resolution` apart (a position read off the profile's bins) carries at least
+        the error of that rounding, resolution / sqrt(12)."""
         v, s = self.e.statistic(function)
+        s = np.hypot(s, resolution / np.sqrt(12))
         text = verdict(v[0] - shift, s[0]) + (f"; {note}" if note else "")
         self.append((finding, paper, fmt(v[0] - shift, s[0], digits), text))
         return v[0], s[0]
 
-    def add_many(self, finding, paper, function, verdict, digits=1):
+    def add_many(self, finding, paper, function, verdict, digits=1, resolution=0.0):
         """Several numbers in one cell: function(Fields) -> tuple; verdict(values, errors)."""
         v, s = self.e.statistic(function)
+        s = np.hypot(s, resolution / np.sqrt(12))
         self.append((finding, paper, " / ".join(fmt(a, b, digits) for a, b in zip(v, s)), verdict(v, s)))
         return v, s
 
@@ -238,6 +242,9 @@ class Rows(list):
         e = self.e
         return self.add("scatter of tr F / (nu C) over points > 1 RVE radius deep (relative sd)",
                         "mono: on one line (Fig. 16A); poly: not (Fig. 16B)", lambda F: ratio_scatter(F, e), no_verdict("-"), 4)
+
+
+BIN = 0.05  # the width in x' of the profiles' bins (Fields.profile)
 
 
 def centre_over_max(y):
@@ -296,7 +303,8 @@ def symmetric_rows(e):
     # Density (Fig. 7).
     r.add("density: core over the outer layer (1-2 RVE radii deep), minus 1", "0.08-0.10",
           lambda F: F.mean(F["volume_fraction"], e.core()) / F.mean(F["volume_fraction"], e.outer_layer()) - 1, near(0.09, 0.01), 3)
-    r.add("density: x'/R of its maximum at y = 0.1 h", "0 (the centre)", x_of_extreme("volume_fraction", 0.1), near(0.0, 0.05))
+    r.add("density: x'/R of its maximum at y = 0.1 h", "0 (the centre)", x_of_extreme("volume_fraction", 0.1), near(0.0, 0.05),
+          resolution=BIN)
 
     # Fabric (Fig. 8).
     trace = lambda F: F["fabric_xx"] + F["fabric_yy"]  # noqa: E731
@@ -314,10 +322,12 @@ def symmetric_rows(e):
 
     # Stress (Fig. 9).
     r.base_dips((0.0, 0.1, 0.2, 0.3, 0.5))
-    r.add("x'/R of the sigma_yy maximum at the base (left side < 0)", "not given (Fig. 9A: about ±0.3)",
-          x_of_extreme(lambda F: -F["stress_yy"], 0.0), no_verdict("compare with Fig. 9A"))
+    r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (Fig. 9A: about -0.3 / +0.3)",
+               lambda F: (x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=-1)(F),
+                          x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=1)(F)),
+               lambda v, s: "compare with Fig. 9A", 2, resolution=BIN)
     r.add("x'/R of the sigma_yy minimum between its two maxima at y = 0.1 h", "at the density maximum (the centre)",
-          x_of_dip(0.1), near(0.0, 0.05))
+          x_of_dip(0.1), near(0.0, 0.05), resolution=BIN)
     for name, mask, paper, target in (("core", e.core(), "0.2", 0.2), ("flanks", e.flanks(), "0.45", 0.45),
                                       ("surface layer", e.surface_layer(), "0.6", 0.6)):
         r.add(f"stress anisotropy (s1 - s2)/(s1 + s2), {name}", paper, lambda F, m=mask: F.mean(F.axes("stress")[0], m),
@@ -405,14 +415,15 @@ def asymmetric_rows(e):
     r.base_dips((0.0, 0.1, 0.2, 0.3), under="the apex")
     r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (asymmetric, Fig. 11)",
                lambda F: (x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=-1)(F), x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=1)(F)),
-               lambda v, s: "-", 2)
+               lambda v, s: "-", 2, resolution=BIN)
 
     def maxima_ratio(F):
         x, p = F.profile(-F["stress_yy"], 0.0)
         return np.nanmax(np.where((x < 0) & (x > -0.8), p, np.nan)) / np.nanmax(np.where((x > 0) & (x < 0.8), p, np.nan))
     r.add("base sigma_yy: left maximum over right maximum, minus 1", "asymmetric (not given)", maxima_ratio,
           lambda v, s: "asymmetric (beyond 2 SE)" if abs(v) > 2 * s else "no asymmetry resolved", 3, shift=1.0)
-    r.add("x'/R of the sigma_yy minimum between its two maxima at the base", "beneath the tip (0)", x_of_dip(0.0), near(0.0, 0.05))
+    r.add("x'/R of the sigma_yy minimum between its two maxima at the base", "beneath the tip (0)", x_of_dip(0.0), near(0.0, 0.05),
+          resolution=BIN)
     r.add_many("stress major axis, tilt from the vertical on the left / right flank (deg)", "not given",
                lambda F: (F.mean(F.axes("stress")[1], e.flanks(-1)), F.mean(F.axes("stress")[1], e.flanks(1))),
                lambda v, s: "see the note on orientations")

@@ -23,7 +23,7 @@ namespace pilelab::dem {
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
 //                          pour_stalled; /protocol/rng (4 words)
 //   /counters attrs        particle_steps, wall_time, checkpoints, snapshots,
-//                          last_checkpoint_time, wall_time_settled; /counters/frame_times
+//                          last_checkpoint_time, wall_time_settled, cpu_time; /counters/frame_times
 
 namespace {
 std::string snapshots_path(const std::string& checkpoint) {
@@ -125,6 +125,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "checkpoints", counters.checkpoints);
     f.set_attribute("/counters", "last_checkpoint_time", counters.last_checkpoint_time);
     f.set_attribute("/counters", "wall_time_settled", counters.wall_time_settled);
+    f.set_attribute("/counters", "cpu_time", counters.cpu_time);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
     f.close();
@@ -249,6 +250,7 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   counters.checkpoints = f.attribute_int("/counters", "checkpoints");
   counters.last_checkpoint_time = f.attribute_double("/counters", "last_checkpoint_time");
   counters.wall_time_settled = f.attribute_double("/counters", "wall_time_settled");
+  counters.cpu_time = f.has_attribute("/counters", "cpu_time") ? f.attribute_double("/counters", "cpu_time") : 0.0;
   counters.frame_times = f.read_doubles("/counters/frame_times");
 }
 

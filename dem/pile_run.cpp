@@ -11,6 +11,7 @@
 
 #ifdef _OPENMP
 #include <omp.h>
+#include <sys/resource.h>
 #endif
 
 #include "common/atomic_file.h"
@@ -31,8 +32,12 @@ namespace pilelab::dem {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-// The top-level tables a scene may hold; each stage checks the keys of its own.
-
+// Processor time of every thread of this process so far (user and system) [s].
+double process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 std::string frame_name(const char* kind, std::size_t index) {
   char buf[64];
@@ -198,6 +203,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["steps"] = w.steps();
   r["wall_time_s"] = c.wall_time;
   r["wall_time_pour_and_settle_s"] = c.wall_time_settled;
+  r["cpu_time_s"] = c.cpu_time;
   r["particle_steps_per_s"] = c.wall_time > 0 ? c.particle_steps / c.wall_time : 0.0;
   r["kinetic_energy_final_J"] = w.kinetic_energy();
   r["contacts_final"] = w.contact_count();
@@ -296,6 +302,8 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   const std::int64_t first_step = world.steps();
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - session_start).count(); };
   const double wall_before = counters.wall_time;
+  const double cpu_start = process_cpu_seconds(), cpu_before = counters.cpu_time;
+  const auto cpu_elapsed = [&] { return process_cpu_seconds() - cpu_start; };
 
   while (!protocol.done()) {
     protocol.step();
@@ -314,6 +322,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
       ++counters.checkpoints;
       counters.last_checkpoint_time = world.time();
       counters.wall_time = wall_before + elapsed();
+      counters.cpu_time = cpu_before + cpu_elapsed();
       write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
     }
     if (interrupted) {
@@ -344,6 +353,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     }
   }
   counters.wall_time = wall_before + elapsed();
+  counters.cpu_time = cpu_before + cpu_elapsed();
   frames.write(world, counters.frame_times);
 
   nlohmann::json run_info;

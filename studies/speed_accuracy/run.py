@@ -73,7 +73,8 @@ def measure(name, knob, value, directory):
     for m in report["ensemble"]["members"]:
         with open(os.path.join(directory, m["directory"], "report.json"), encoding="utf-8") as f:
             dem = json.load(f)["dem"]
-        members.append({"seed": m["seed"], "wall_time_s": dem["wall_time_s"], "steps": dem["steps"],
+        members.append({"seed": m["seed"], "wall_time_s": dem["wall_time_s"], "cpu_time_s": dem.get("cpu_time_s"),
+                        "steps": dem["steps"],
                         "time_step_s": dem["time_step_s"], "stable_time_step_s": dem["stable_time_step_s"],
                         "particle_steps_per_s": dem["particle_steps_per_s"], "grains": m["grains"], "lost": m["lost"],
                         "height_m": m["height_m"], "repose_angle_left_deg": m["repose_angle_left_deg"],
@@ -133,7 +134,8 @@ def main():
     args = parser.parse_args()
     only = set(args.only.split(",")) if args.only else None
     os.makedirs(args.data, exist_ok=True)
-    plan = [(s, None) for s in study.DEM] + [(s, "base") for s in study.LATER]
+    # The base first, then what reuses its members (the later stages' settings), then the rest.
+    plan = [(study.DEM[0], None)] + [(s, "base") for s in study.LATER] + [(s, None) for s in study.DEM[1:]]
     known = {s[0] for s, _ in plan} | {s[0] for s in study.SKIN}
     if only and only - known:
         sys.exit(f"run.py: --only: no setting {sorted(only - known)} (known: {sorted(known)})")
@@ -150,7 +152,7 @@ def main():
             run_setting(source, {}, args.out, args)
         directory = run_setting(name, overrides, args.out, args, members_from)
         write_atomically(data, json.dumps(measure(name, knob, value, directory), indent=1) + "\n")
-    for name, knob, value, overrides in study.SKIN:
+    for name, knob, value, overrides in study.SKIN:  # last: each pours one pile
         if only and name not in only:
             continue
         data = os.path.join(args.data, name + ".json")
@@ -173,7 +175,8 @@ def skin_run(name, knob, value, overrides, args, data):
                    env=dict(os.environ, OMP_WAIT_POLICY="passive"))
     with open(os.path.join(directory, "report.json"), encoding="utf-8") as f:
         dem = json.load(f)["dem"]
-    result = {"name": name, "knob": knob, "value": value, "wall_time_s": dem["wall_time_s"], "steps": dem["steps"],
+    result = {"name": name, "knob": knob, "value": value, "wall_time_s": dem["wall_time_s"],
+              "cpu_time_s": dem.get("cpu_time_s"), "steps": dem["steps"],
               "neighbour_list_builds": dem.get("neighbour_list_builds"),
               "particle_steps_per_s": dem["particle_steps_per_s"]}
     reference = os.path.join(args.out, study.SKIN[0][0], "dem.h5")

@@ -36,11 +36,17 @@ def load(data):
     return out
 
 
+def seconds(m):
+    """A pile's cost: its processor time (core-seconds, unaffected by what else ran), else its
+    wall time."""
+    return m["cpu_time_s"] if m.get("cpu_time_s") else m["wall_time_s"]
+
+
 def cost(d):
-    """DEM wall time per pile on one core (mean, SE), or the later stages' time."""
+    """DEM processor time per pile (mean, SE), or the later stages' time."""
     if "members" not in d:
-        return d.get("wall_time_s"), None
-    t = np.array([m["wall_time_s"] for m in d["members"]])
+        return seconds(d), None
+    t = np.array([seconds(m) for m in d["members"]])
     return float(t.mean()), float(t.std(ddof=1) / np.sqrt(len(t))) if len(t) > 1 else None
 
 
@@ -133,7 +139,7 @@ def rows(results):
 
 
 COLUMNS = [("knob", "knob"), ("setting", "setting"), ("reference", "against"),
-           ("time", "time per pile (s, 1 core)"), ("speed", "speed-up"),
+           ("time", "cost per pile (core-s)"), ("speed", "speed-up"),
            ("repose_angle_pile_mean_deg", "Δ repose angle (deg)"), ("profile", "base sigma_yy, rel. L2"),
            ("stress_tilt_flanks_deg", "Δ stress tilt, flanks (deg)"), ("fabric_trace_core", "Δ tr F, core (%)"),
            ("volume_fraction_core", "Δ nu, core (%)"), ("fit_E_N_per_m", "Δ fitted E (%)"),
@@ -146,9 +152,9 @@ def markdown(results, table):
     lines += ["| " + " | ".join(str(r.get(k, "-")) for k, _ in COLUMNS) + " |" for r in table]
     if skin:
         lines += ["", "Neighbour skin (one pile each, seed 1; the grains must end where the default skin's do):", "",
-                  "| skin | time (s, 1 core) | list builds | particle-steps/s | same grains as 0.3 |", "|---|---|---|---|---|"]
+                  "| skin | cost (core-s) | list builds | particle-steps/s | same grains as 0.3 |", "|---|---|---|---|---|"]
         for d in skin:
-            lines.append(f"| {d['value']} | {d['wall_time_s']:.1f} | {d.get('neighbour_list_builds', '-')} | "
+            lines.append(f"| {d['value']} | {seconds(d):.1f} | {d.get('neighbour_list_builds', '-')} | "
                          f"{d['particle_steps_per_s']:.3g} | {d.get('same_grain_positions_as_default_skin', '(reference)')} |")
     missing = [s[0] for s in study.DEM + study.LATER + study.SKIN if s[0] not in results]
     if missing:
@@ -182,7 +188,7 @@ def pareto(results, path):
             ax.errorbar(t, v, xerr=ts, yerr=s, fmt="o", ms=4, color=colours[d["knob"]], capsize=2)
             ax.annotate(name, (t, v), fontsize=6, xytext=(3, 3), textcoords="offset points")
         ax.set_xscale("log")
-        ax.set_xlabel("DEM wall time per pile (s, one core)")
+        ax.set_xlabel("DEM cost per pile (core-seconds)")
         ax.set_ylabel(label)
     for k, c in colours.items():
         axes[0].plot([], [], "o", color=c, label=k)

@@ -95,17 +95,6 @@ continuum::MeasuredPile measured_for_solve(const std::string& fields_h5, const s
   return m;
 }
 
-// The closed loop of the fit, for compare/: the continuum's elasticity on this process alone.
-void solve_gravity_change(const compare::GravityChangeProblem& p, const std::string& out_dir) {
-  continuum::GravityChange g;
-  g.mesh_file = p.mesh_file;
-  g.lame_lambda_N_per_m = p.lame_lambda_N_per_m;
-  g.shear_modulus_N_per_m = p.shear_modulus_N_per_m;
-  g.gravity_change = p.gravity_change;
-  g.density_kg_per_m2 = p.density_kg_per_m2;
-  g.gravity_m_per_s2 = p.gravity_m_per_s2;
-  continuum::solve_gravity_change(g, out_dir);
-}
 #endif
 
 // Runs f on rank 0 only, inside a stage every rank takes part in: if it throws, every rank
@@ -309,7 +298,11 @@ void run_pipeline(const RunOptions& opt) {
                         compare::CompareRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, {}};
                         if (pile) o.measured_repose_angle_deg = 0.5 * (pile->left_angle_deg + pile->right_angle_deg);
 #ifdef PILELAB_WITH_CONTINUUM
-                        if (std::filesystem::exists(out("pile.msh"))) o.solve_gravity_change = solve_gravity_change;
+                        // The fit's closed loop: the continuum's elasticity, on this rank alone.
+                        if (std::filesystem::exists(out("pile.msh")))
+                          o.solve_gravity_change = [](const GravityChangeProblem& p, const std::string& dir) {
+                            continuum::solve_gravity_change(p, dir);
+                          };
 #endif
                         compare::run_compare(o);
                       });

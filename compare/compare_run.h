@@ -9,20 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/gravity_change_problem.h"
 #include "common/scene_reader.h"
 
 namespace pilelab::compare {
 
-/// The closed loop of a stress-strain fit: the gravity change the DEM's strains come from,
-/// solved on the fields' mesh with the fitted isotropic constants (plane strain), whose
-/// displacements and strains are then set against the DEM's.
-struct GravityChangeProblem {
-  std::string mesh_file;
-  double lame_lambda_N_per_m = 0.0, shear_modulus_N_per_m = 0.0;
-  double gravity_change = 0.0;  ///< relative change of g
-  double density_kg_per_m2 = 0.0, gravity_m_per_s2 = 0.0;
-};
-/// Solves a GravityChangeProblem and writes the model "elastic" into OUT_DIR/models.h5. The
+/// Solves a GravityChangeProblem (the fit's closed loop, whose displacements and strains are
+/// then set against the DEM's) and writes the model "elastic" into OUT_DIR/models.h5. The
 /// caller supplies it (the continuum models), so that compare/ needs no finite elements; it is
 /// called on this process alone.
 using GravityChangeSolver = std::function<void(const GravityChangeProblem&, const std::string& out_dir)>;

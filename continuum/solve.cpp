@@ -249,7 +249,7 @@ nlohmann::json run_solve(const SolveOptions& o) {
   return solve_models(s, o, MPI_COMM_WORLD);
 }
 
-nlohmann::json solve_gravity_change(const GravityChange& p, const std::string& out_dir) {
+nlohmann::json solve_gravity_change(const GravityChangeProblem& p, const std::string& out_dir) {
   ContinuumSettings s;
   s.fpa = false;
   s.mesh_file = p.mesh_file;

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/gravity_change_problem.h"
+
 namespace pilelab::continuum {
 
 /// What the stages before the solve measured, for the [continuum] keys the scene leaves open
@@ -29,19 +31,11 @@ struct SolveOptions {
 /// Must run inside an MPI context (see run_solve_command). Returns the report section.
 nlohmann::json run_solve(const SolveOptions& options);
 
-/// Isotropic elasticity (plane strain, rough base, the default degree) for a relative change of
-/// gravity on a given mesh, with given Lame constants: the closed loop of a stress-strain fit.
-struct GravityChange {
-  std::string mesh_file;
-  double lame_lambda_N_per_m = 0.0, shear_modulus_N_per_m = 0.0;
-  double gravity_change = 0.0;
-  double density_kg_per_m2 = 0.0, gravity_m_per_s2 = 0.0;
-};
-
-/// Solves it on this process alone (MPI_COMM_SELF), so that one rank can call it while the
+/// Isotropic elasticity (plane strain, rough base, the default degree) for the relative change
+/// of gravity on the given mesh with the given Lame constants, solved on this process alone (MPI_COMM_SELF), so that one rank can call it while the
 /// others wait, and writes what run_solve writes for the model "elastic" into out_dir. MPI and
 /// PETSc must be running (ParallelContext, or `pilelab run`'s world).
-nlohmann::json solve_gravity_change(const GravityChange& problem, const std::string& out_dir);
+nlohmann::json solve_gravity_change(const GravityChangeProblem& problem, const std::string& out_dir);
 
 /// run_solve inside its own MPI (and PETSc) context, for the command-line action: MPI is set
 /// up here and torn down on return, so other subcommands never start it.

@@ -702,6 +702,20 @@ def sections(study):
     return out
 
 
+def replace_between_markers(doc_path, script, text):
+    """The doc with `text` between its markers "<!-- table: SCRIPT -->" and "<!-- end of
+    table -->", written to a temporary name and renamed; exits naming the doc without them."""
+    with open(doc_path, encoding="utf-8") as f:
+        doc = f.read()
+    begin, end = f"<!-- table: {script} -->\n", "<!-- end of table -->"
+    if begin not in doc or end not in doc:
+        sys.exit(f"{doc_path}: no table markers ({begin.strip()} ... {end})")
+    doc = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda _: begin + text + end, doc, flags=re.S)
+    with open(doc_path + ".tmp", "w", encoding="utf-8") as f:
+        f.write(doc)
+    os.replace(doc_path + ".tmp", doc_path)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("root", nargs="?", default=os.path.join(ROOT, "docs", "studies", "paper"),
@@ -713,15 +727,7 @@ def main():
     if not study:
         sys.exit(f"tables.py: no products under {args.root}/<ensemble>/products (run studies/paper/stages.py)")
     table = markdown(sections(study))
-    with open(args.doc, encoding="utf-8") as f:
-        doc = f.read()
-    begin, end = "<!-- table: studies/paper/tables.py -->\n", "<!-- end of table -->"
-    if begin not in doc or end not in doc:
-        sys.exit(f"{args.doc}: no table markers ({begin.strip()} ... {end})")
-    doc = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda _: begin + table + end, doc, flags=re.S)
-    with open(args.doc + ".tmp", "w", encoding="utf-8") as f:
-        f.write(doc)
-    os.replace(args.doc + ".tmp", args.doc)
+    replace_between_markers(args.doc, "studies/paper/tables.py", table)
     print(f"tables.py: {len(table.splitlines())} lines of table -> {args.doc}")
     for path in figures(study, args.figures or args.root):
         print("tables.py: wrote", path)

@@ -16,7 +16,6 @@ import argparse
 import glob
 import json
 import os
-import re
 import sys
 
 import numpy as np
@@ -24,7 +23,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(ROOT, "studies", "paper"))
 import settings as study  # noqa: E402
+import tables as paper  # noqa: E402  (replace_between_markers)
 
 
 def load(data):
@@ -212,16 +213,7 @@ def main():
     results = load(args.data)
     if not results:
         sys.exit(f"tables.py: no measurements in {args.data} (run studies/speed_accuracy/run.py)")
-    text = markdown(results, rows(results))
-    with open(args.doc, encoding="utf-8") as f:
-        doc = f.read()
-    begin, end = "<!-- table: studies/speed_accuracy/tables.py -->\n", "<!-- end of table -->"
-    if begin not in doc or end not in doc:
-        sys.exit(f"{args.doc}: no table markers ({begin.strip()} ... {end})")
-    doc = re.sub(re.escape(begin) + ".*?" + re.escape(end), lambda _: begin + text + end, doc, flags=re.S)
-    with open(args.doc + ".tmp", "w", encoding="utf-8") as f:
-        f.write(doc)
-    os.replace(args.doc + ".tmp", args.doc)
+    paper.replace_between_markers(args.doc, "studies/speed_accuracy/tables.py", markdown(results, rows(results)))
     os.makedirs(args.figures, exist_ok=True)
     pareto(results, os.path.join(args.figures, "pareto.png"))
     print(f"tables.py: {len(results)} settings -> {args.doc}, {args.figures}/pareto.png")

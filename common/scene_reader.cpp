@@ -6,6 +6,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/scene_presets.h"
 
 namespace pilelab {
 
@@ -20,6 +21,20 @@ std::string Range::describe() const {
   return s.str();
 }
 
+namespace {
+// Copies into `into` every key of `from` that `into` lacks, table by table.
+void fill_missing(toml::table& into, const toml::table& from) {
+  for (const auto& [key, value] : from) {
+    toml::node* mine = into.get(key);
+    if (!mine) {
+      into.insert(key, value);
+    } else if (mine->is_table() && value.is_table()) {
+      fill_missing(*mine->as_table(), *value.as_table());
+    }
+  }
+}
+}  // namespace
+
 SceneReader::SceneReader(const std::string& text, std::string source)
     : text_(text), source_(std::move(source)) {
   try {
@@ -29,6 +44,25 @@ SceneReader::SceneReader(const std::string& text, std::string source)
     s << source_ << ":" << e.source().begin.line << ":" << e.source().begin.column
       << ": not valid TOML: " << e.description();
     throw InputError(s.str());
+  }
+  apply_preset();
+}
+
+// [scene] preset: its keys fill in what the scene leaves out, in the top-level tables the scene
+// has (so that a preset never adds a stage to a run).
+void SceneReader::apply_preset() {
+  asked_.insert("scene.preset");
+  if (!has("scene.preset")) return;
+  std::vector<std::string> names;
+  for (const auto& [name, _] : scene_presets()) names.push_back(name);
+  const std::string preset = get_choice("scene.preset", "", names);
+  for (const auto& [name, text] : scene_presets()) {
+    if (name != preset) continue;
+    const toml::table defaults = toml::parse(text, "preset " + name);
+    for (const auto& [table, value] : defaults) {
+      toml::node* mine = root_.get(table);
+      if (mine && mine->is_table() && value.is_table()) fill_missing(*mine->as_table(), *value.as_table());
+    }
   }
 }
 

@@ -59,6 +59,7 @@ class SceneReader {
                       const std::vector<std::string>& known_tables) const;
 
  private:
+  void apply_preset();
   const toml::node* find(std::string_view key) const;
   [[noreturn]] void fail(std::string_view key, const std::string& what) const;
   std::string text_;

@@ -2,11 +2,13 @@
 
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -92,12 +94,34 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
   const pid_t child = fork();
   if (child < 0) return;  // no process to spare: read the file as it is
   if (child == 0) {
-    alarm(limit_s);  // a hang ends with SIGALRM
+    // The child dies with its parent, and a hang ends with SIGALRM whatever handler the parent
+    // had installed (libFuzzer has one: found when a fuzzed file hung HDF5 past every limit).
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    signal(SIGALRM, SIG_DFL);
+    sigset_t alarm_only;
+    sigemptyset(&alarm_only);
+    sigaddset(&alarm_only, SIGALRM);
+    sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
+    alarm(limit_s);
     _exit(read_everything(path.c_str()));
   }
+  // The parent keeps the limit too: a child still running a second after it is killed.
   int status = 0;
-  while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  bool killed = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
+    const pid_t done = waitpid(child, &status, WNOHANG);
+    if (done == child || (done < 0 && errno != EINTR)) break;
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!killed && waited > limit_s + 1.0) {
+      kill(child, SIGKILL);
+      killed = true;
+    }
+    usleep(waited < 0.1 ? 500 : 10000);  // most files are read in milliseconds
   }
+  if (killed && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    throw InputError(path + ": HDF5 did not finish reading this file within " + std::to_string(limit_s) +
+                     " s (a damaged file can make it loop)");
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     const std::lock_guard<std::mutex> lock(mutex);
     readable.insert(version);

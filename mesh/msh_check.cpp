@@ -187,6 +187,23 @@ void check_elements_22(Tokens& t, const std::unordered_set<long>& nodes) {
   t.expect("$EndElements");
 }
 
+// $PhysicalNames (both formats): a count, then per name its dimension (0..3), a tag and the
+// name in double quotes. gmsh 4.8 crashed on a name of dimension 4 (found by fuzzing).
+void check_physical_names(Tokens& t) {
+  const long count = t.integer("$PhysicalNames: number of names", 0, 10000);
+  for (long k = 0; k < count; ++k) {
+    t.integer("$PhysicalNames: dimension", 0, 3);
+    t.integer("$PhysicalNames: tag", 1);
+    std::string name = t.word();
+    if (name.front() != '"') t.fail("$PhysicalNames: a name in double quotes expected, found '" + name + "'");
+    while (name.size() < 2 || name.back() != '"') {
+      if (name.size() > 256) t.fail("$PhysicalNames: a name longer than 256 characters, or without its closing quote");
+      name += " " + t.word();
+    }
+  }
+  t.expect("$EndPhysicalNames");
+}
+
 }  // namespace
 
 void check_msh_file(const std::string& path) {
@@ -214,6 +231,8 @@ void check_msh_file(const std::string& path) {
       if (has_elements) t.fail("a second $Elements section");
       v41 ? check_elements_41(t, nodes) : check_elements_22(t, nodes);
       has_elements = true;
+    } else if (name == "PhysicalNames") {
+      check_physical_names(t);
     } else {
       t.skip_section(name);
     }

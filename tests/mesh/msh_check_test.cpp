@@ -90,3 +90,15 @@ TEST(MshCheck, NonNumbersUnknownElementsBinaryAndTruncatedFilesAreRefused) {
   EXPECT_NE(refusal(text.substr(0, text.size() / 2)).find("ends early"), std::string::npos);
   EXPECT_NE(refusal("").find("ends early"), std::string::npos);
 }
+
+// gmsh 4.8 crashed on a physical name of dimension 4 (found by fuzzing): names are checked.
+TEST(MshCheck, PhysicalNamesOfABadDimensionOrWithoutQuotesAreRefused) {
+  const std::string names = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n1 1 \"BoundaryID:1\"\n";
+  const std::string body = std::string(square_41).substr(std::string(square_41).find("$Nodes"));
+  EXPECT_EQ(refusal(names + "2 100 \"Material ID\"\n$EndPhysicalNames\n" + body), "") << "a name with a space passes";
+  const std::string m = refusal(names + "4 100 \"MaterialID:0\"\n$EndPhysicalNames\n" + body);
+  EXPECT_NE(m.find("line 7"), std::string::npos) << m;
+  EXPECT_NE(m.find("$PhysicalNames: dimension 4 is out of range [0, 3]"), std::string::npos) << m;
+  EXPECT_NE(refusal(names + "2 100 MaterialID\n$EndPhysicalNames\n" + body).find("a name in double quotes expected"),
+            std::string::npos);
+}

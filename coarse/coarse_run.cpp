@@ -474,7 +474,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     std::ostringstream m;
     m << opt.scene_path << ": coarse.rve_radius_m is " << settings.rve_radius_m
       << " m, smaller than the mean grain diameter " << diameter
-      << " m: such an RVE holds at most one grain (the paper's hold 100-200); allowed: >= " << diameter
+      << " m: such an RVE holds a few grains at most (the paper's hold 100-200); allowed: >= " << diameter
       << " m, or 0 to size it by coarse.rve_grain_count";
     throw InputError(m.str());
   }

@@ -568,6 +568,7 @@ nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_
     return iso.contains(key) && iso[key].is_number() ? iso[key].get<double>() : NAN;
   };
   const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
+  if (!std::isfinite(lambda) || !std::isfinite(mu)) return nullptr;  // the fit had no data
   const double nu = lambda / (2 * (lambda + mu));
   const FieldsAttributes fields = read_fields_attributes(fields_path);
   GravityChangeProblem problem;

@@ -170,9 +170,10 @@ nlohmann::json solve_fpa(const ContinuumSettings& s, const Triangulation2& tria,
   const double e = problem.result().residual_norm * std::sqrt(pile.area_m2) / problem.result().weight;
   j["equilibrium_residual_over_weight"] = e;
   const double carried = problem.result().base_force_N / problem.result().weight;
-  if (carried < 0.99) {
+  if (!(carried >= 0.99)) {  // NaN included
     std::ostringstream w;
-    w << "the FPA's base carries " << carried << " of the weight (1 - e^2, e = " << e << "); "
+    w << "the FPA's base carries " << carried << " of the weight ("
+      << (f.surface == FpaSettings::Surface::strong ? "1 - e^2, " : "") << "e = " << e << "); "
       << 100 * problem.result().outflow_surface_length_fraction
       << " % of the free surface is steeper than a characteristic. A smoother outline (mesh.outline_smoothing_grains), a "
          "finer mesh or degree 2 carries more";

@@ -18,8 +18,8 @@ struct RunCounters {
   double last_checkpoint_time = 0.0;  ///< [s] simulated time of the last one
   double wall_time_settled = -1.0;    ///< [s] wall time when the pile had poured and settled; -1 before
   /// [s] processor time of all threads over all sessions (core-seconds: what the run costs
-  /// whatever else shares the machine); checkpoints written before 2026-12-02 lack it, and a
-  /// run resumed from one counts only its later sessions.
+  /// whatever else shares the machine); a run resumed from a checkpoint without it (older
+  /// builds') counts only its later sessions.
   double cpu_time = 0.0;
 };
 

@@ -9,9 +9,10 @@
 #include <filesystem>
 #include <thread>
 
+#include <sys/resource.h>
+
 #ifdef _OPENMP
 #include <omp.h>
-#include <sys/resource.h>
 #endif
 
 #include "common/atomic_file.h"

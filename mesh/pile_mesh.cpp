@@ -207,6 +207,9 @@ MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
   spec.dem_snapshot = r.get_string("mesh.dem_snapshot", spec.dem_snapshot);
   spec.outline_smoothing_grains =
       r.get_double("mesh.outline_smoothing_grains", spec.outline_smoothing_grains, Range::closed(0.0, 100.0));
+  if (spec.outline_smoothing_grains > 0 && spec.outline_smoothing_grains < 0.5)
+    throw InputError(r.source() + ": mesh.outline_smoothing_grains: " + std::to_string(spec.outline_smoothing_grains) +
+                     " is below half a grain, where the average smooths nothing: expected 0 (no smoothing) or 0.5 .. 100");
   spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
   spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
   spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);

@@ -95,16 +95,28 @@ class Ensemble:
                 cache[key] = {q: np.nanmean(stack(q), axis=0) for q in self.piles[piles[0]]}
         return cache[key]
 
-    def statistic(self, function):
-        """function(Fields) -> float or tuple of floats; returns (value, stderr) arrays."""
+    def replicates(self, function):
+        """function(Fields) -> float or tuple of floats; returns (value, leave-one-out values):
+        the statistic of the mean over all piles, and over all but pile k for each k (rows in the
+        order of the piles' keys; None with fewer than two piles)."""
         keys = sorted(self.piles)
         full = np.atleast_1d(np.asarray(function(Fields(self, self.mean_fields(keys))), dtype=float))
         if self.n < 2:
-            return full, np.full_like(full, np.nan)
+            return full, None
         leave_out = np.array([np.atleast_1d(function(Fields(self, self.mean_fields([j for j in keys if j != k]))))
                               for k in keys], dtype=float)
-        se = np.sqrt((self.n - 1) / self.n * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0))
-        return full, se
+        return full, leave_out
+
+    def statistic(self, function):
+        """function(Fields) -> float or tuple of floats; returns (value, stderr) arrays."""
+        full, leave_out = self.replicates(function)
+        return full, jackknife_se(leave_out) if leave_out is not None else np.full_like(full, np.nan)
+
+
+def jackknife_se(leave_out):
+    """The jackknife standard error from the leave-one-out values (rows: the piles)."""
+    n = len(leave_out)
+    return np.sqrt((n - 1) / n * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0))
 
 
 @contextlib.contextmanager
@@ -139,7 +151,7 @@ class Fields:
             theta = np.where(swap, theta + 90.0, theta)
         size = np.abs(major) + np.abs(minor)
         anisotropy = (major - minor) / np.where(size > 0, size, np.nan)
-        tilt = (theta - 90.0 + 90.0) % 180.0 - 90.0  # the major axis from the vertical, in (-90, 90]
+        tilt = (theta - 90.0 + 90.0) % 180.0 - 90.0  # the major axis from the vertical, in [-90, 90)
         return anisotropy, tilt
 
     def mean(self, q, mask):

@@ -82,21 +82,23 @@ def measure(name, knob, value, directory):
     e = paper.Ensemble(directory, "symmetric")
     coarse = report["coarse"]
     rho_g_h = coarse["rho_bulk_kg_per_m2"] * coarse["gravity_m_per_s2"] * e.h
-    quantities = {}
+    quantities, leave_one_out = {}, {}
 
     def add(key, function):
-        v, s = e.statistic(function)
-        quantities[key] = [float(v[0]), float(s[0])]
+        v, loo = e.replicates(function)
+        quantities[key] = [float(v[0]), float(paper.jackknife_se(loo)[0])]
+        leave_one_out[key] = [float(x) for x in loo[:, 0]]
 
     add("stress_tilt_flanks_deg", lambda F: F.mean(np.abs(F.axes("stress")[1]), e.flanks()))
     add("stress_anisotropy_core", lambda F: F.mean(F.axes("stress")[0], e.core()))
     add("fabric_trace_core", lambda F: F.mean(F["fabric_xx"] + F["fabric_yy"], e.core()))
     add("volume_fraction_core", lambda F: F.mean(F["volume_fraction"], e.core()))
     add("base_centre_over_max", paper.centre_over_max(0.0))
-    x, p = e.statistic(lambda F: tuple(F.profile(-F["stress_yy"], 0.0)[1] / rho_g_h))
+    x, loo = e.replicates(lambda F: tuple(F.profile(-F["stress_yy"], 0.0)[1] / rho_g_h))
     bins = np.linspace(-1, 1, 41)
     base_profile = {"x_over_R": list(0.5 * (bins[1:] + bins[:-1])), "value": [float(a) for a in x],
-                    "stderr": [float(a) for a in p]}
+                    "stderr": [float(a) for a in paper.jackknife_se(loo)],
+                    "leave_one_out": [[float(a) for a in row] for row in loo]}
     for model in ("elastic", "fpa"):
         m = report["compare"]["models"].get(model, {})
         for k in ("relative_l2_stress_yy", "relative_l2_stress_xx", "principal_axis_angle_mean_deg"):
@@ -117,7 +119,10 @@ def measure(name, knob, value, directory):
     s = ens["height_m"]
     quantities["height_m"] = [s["mean"], s["standard_error"]]
     quantities["coarse_wall_time_s"] = [coarse.get("wall_time_s"), None]
+    # The seeds in the order of the leave-one-out rows (fields.h5's piles follow the members).
+    seeds = [m["seed"] for m in report["ensemble"]["members"]]
     return {"name": name, "knob": knob, "value": value, "members": members, "quantities": quantities,
+            "leave_one_out": leave_one_out, "seeds": seeds,
             "base_profile": base_profile, "rve_grain_count": coarse.get("rve_grain_count_target"),
             "mesh_nodes": report.get("mesh", {}).get("nodes")}
 

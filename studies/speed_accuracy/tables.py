@@ -5,12 +5,14 @@ table between its markers, and docs/studies/speed_accuracy/pareto.png.
 
     /usr/bin/python3 studies/speed_accuracy/tables.py [--data DIR] [--doc FILE] [--figures DIR]
 
-Each setting is compared with its knob's reference (settings.REFERENCE). A difference of two
-ensembles' means carries the standard error sqrt(se1^2 + se2^2); the difference of two base
-pressure profiles is a relative L2 norm over the bins both have, corrected for the noise both
-profiles carry: sqrt(max(0, sum d^2 - sum (se1^2 + se2^2))) / |p_ref|, beside its noise floor
-sqrt(sum (se1^2 + se2^2)) / |p_ref|, the value two ensembles of one setting would show. A
-knob's effect counts when it exceeds two standard errors (or, for the profile, two noise floors).
+Each setting is compared with its knob's reference (settings.REFERENCE). Both are ensembles of
+the same seeds, so a difference is paired: its standard error is the jackknife of the
+difference itself (each seed left out of both), which the shared grains and the settings that
+reuse the same piles make much smaller than sqrt(se1^2 + se2^2) (used where the seeds differ).
+The difference of two base pressure profiles is a relative L2 norm over the bins both have,
+corrected for the noise of the difference: sqrt(max(0, sum d^2 - sum var_d)) / |p_ref|, beside its
+noise floor sqrt(sum var_d) / |p_ref|, var_d each bin's jackknife variance. A knob's effect
+counts when it exceeds two standard errors (or, for the profile, two noise floors).
 """
 import argparse
 import glob
@@ -56,12 +58,27 @@ def later_cost(d):
     return sum(q.get(k, [0.0])[0] or 0.0 for k in ("coarse_wall_time_s", "elastic_wall_time_s", "fpa_wall_time_s"))
 
 
+def paired(d, ref):
+    """Whether two settings' ensembles are of the same seeds in the same order."""
+    return d.get("seeds") is not None and d.get("seeds") == ref.get("seeds")
+
+
+def jackknife_se(leave_out):
+    n = len(leave_out)
+    return float(np.sqrt((n - 1) / n * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0)))
+
+
 def difference(d, ref, key, relative=False):
     a, sa = d["quantities"].get(key, [None, None])
     b, sb = ref["quantities"].get(key, [None, None])
     if a is None or b is None or sa is None or sb is None:
         return None, None
-    diff, se = a - b, float(np.hypot(sa, sb))
+    diff = a - b
+    la, lb = d.get("leave_one_out", {}).get(key), ref.get("leave_one_out", {}).get(key)
+    if paired(d, ref) and la is not None and lb is not None:
+        se = jackknife_se(np.array(la, dtype=float) - np.array(lb, dtype=float))
+    else:
+        se = float(np.hypot(sa, sb))
     if relative:
         return diff / b, se / abs(b)
     return diff, se
@@ -70,11 +87,17 @@ def difference(d, ref, key, relative=False):
 def profile_l2(d, ref):
     p, q = d["base_profile"], ref["base_profile"]
     a, sa, b, sb = (np.array(x, dtype=float) for x in (p["value"], p["stderr"], q["value"], q["stderr"]))
-    ok = np.isfinite(a) & np.isfinite(b) & np.isfinite(sa) & np.isfinite(sb) & (np.abs(np.array(p["x_over_R"])) < 0.9)
+    if paired(d, ref) and "leave_one_out" in p and "leave_one_out" in q:
+        loo = np.array(p["leave_one_out"], dtype=float) - np.array(q["leave_one_out"], dtype=float)
+        n = len(loo)
+        var = (n - 1) / n * np.sum((loo - loo.mean(axis=0)) ** 2, axis=0)
+    else:
+        var = sa ** 2 + sb ** 2
+    ok = np.isfinite(a) & np.isfinite(b) & np.isfinite(var) & (np.abs(np.array(p["x_over_R"])) < 0.9)
     if ok.sum() < 3:
         return None, None
     norm = np.sqrt(np.sum(b[ok] ** 2))
-    noise = np.sum(sa[ok] ** 2 + sb[ok] ** 2)
+    noise = np.sum(var[ok])
     return float(np.sqrt(max(0.0, np.sum((a[ok] - b[ok]) ** 2) - noise)) / norm), float(np.sqrt(noise) / norm)
 
 
@@ -88,14 +111,17 @@ def fmt(v, s, digits=2, scale=1.0):
 
 def rows(results):
     out = []
-    order = [s[0] for s in study.DEM] + [s[0] for s in study.LATER]
-    for name in order:
+    order = [(s[0], None) for s in study.DEM] + [(a[0], a) for a in study.ALSO] + [(s[0], None) for s in study.LATER]
+    for name, also in order:
         d = results.get(name)
         if d is None:
             continue
-        ref_name = study.REFERENCE[d["knob"]]
+        if also:  # the same measurements as a point of another knob
+            d = dict(d, knob=also[1], value=also[2])
+        ref_name = study.REFERENCE[d["knob"]] or name
         ref = results.get(ref_name)
         later = name in {s[0] for s in study.LATER}
+        is_reference = ref_name == name
         t, ts = (later_cost(d), None) if later else cost(d)
         t_ref = (later_cost(ref) if later else cost(ref)[0]) if ref else None
         cells = {"knob": d["knob"], "setting": d["value"], "reference": ref_name,
@@ -107,7 +133,7 @@ def rows(results):
             if v is not None and s is not None and abs(v) > 2 * s:
                 flags.append(label)
 
-        if ref is not None and ref is not d:
+        if ref is not None and not is_reference:
             for key, label, digits, rel in (("repose_angle_pile_mean_deg", "angle", 1, False),
                                             ("stress_tilt_flanks_deg", "tilt", 1, False),
                                             ("fabric_trace_core", "tr F", 1, True),
@@ -127,12 +153,12 @@ def rows(results):
         else:
             for key in ("repose_angle_pile_mean_deg", "stress_tilt_flanks_deg", "fabric_trace_core",
                         "volume_fraction_core", "fit_E_N_per_m", "profile", "elastic_l2", "fpa_l2"):
-                cells[key] = "(reference)" if ref is d else "-"
+                cells[key] = "(reference)" if is_reference else "-"
         lost = 0 if later else sum(m["lost"] for m in d.get("members", []))
         if ref is None:
             cells["verdict"] = "its reference is not measured yet"
         else:
-            cells["verdict"] = ("differs: " + ", ".join(flags) if flags else "no effect beyond 2 SE") if ref is not d else "-"
+            cells["verdict"] = "-" if is_reference else ("differs: " + ", ".join(flags) if flags else "no effect beyond 2 SE")
         if lost:
             cells["verdict"] += f"; {lost} grains lost"
         out.append(cells)
@@ -175,7 +201,7 @@ def pareto(results, path):
         for name, d in results.items():
             if "members" not in d:
                 continue
-            ref = results.get(study.REFERENCE[d["knob"]])
+            ref = results.get(study.REFERENCE[d["knob"]] or name)
             if ref is None or ref is d:
                 continue
             t, ts = cost(d)

@@ -45,3 +45,19 @@ TEST_F(SceneCheck, ABadKeyInALateTableIsFoundBeforeThePour) {
     EXPECT_FALSE(std::filesystem::exists(path("out") + "/dem.h5")) << "poured before the scene was checked: " << c.table;
   }
 }
+
+// Every key a preset fills in is one its stage's reader knows: a scene with every table and a
+// preset passes every reader (an unknown key would be refused as the scene's own).
+TEST_F(SceneCheck, EveryPresetIsAcceptedByEveryStage) {
+  for (const char* preset : {"fast", "accurate"}) {
+    std::string text = pilelab::test::tiny_scene();
+    text.insert(text.find("[scene]\n") + 8, "preset = \"" + std::string(preset) + "\"\n");
+    const std::string scene = write_scene(std::string(preset) + ".toml", text + "[mesh]\n[coarse]\n[compare]\n"
+#ifdef PILELAB_WITH_CONTINUUM
+                                           "[continuum]\n"
+#endif
+    );
+    const auto r = run("check " + scene);
+    EXPECT_EQ(r.exit_code, 0) << preset << "\n" << r.output;
+  }
+}

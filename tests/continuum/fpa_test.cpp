@@ -146,6 +146,17 @@ TEST(FpaWedge, MissingWeightIsTheSquaredResidual) {
     }
 }
 
+// A flank is an outflow boundary for a characteristic exactly when it is steeper than
+// 45 + phi/2 degrees (the characteristic at psi = 45 - phi/2 from the vertical then points out
+// of it): with phi = 28 that is 59 degrees. Wedges of 56 and 62 degrees lie either side.
+TEST(FpaWedge, FlanksSteeperThanACharacteristicAreOutflow) {
+  for (const auto& [flank, expected] : {std::pair{56.0, 0.0}, std::pair{62.0, 1.0}}) {
+    auto tria = fan_wedge(flank, flank, {0.0}, 2);
+    FpaProblem problem(*tria, settings(28.0, 28.0, 1), rho, g, 0.0);
+    EXPECT_EQ(problem.run().outflow_surface_length_fraction, expected) << flank << " degree flanks";
+  }
+}
+
 // The same on the production mesh: gmsh's wedge with the axis embedded (mesh/pile_mesh.h).
 TEST(FpaWedge, GmshWedgeCarriesTheWeightAndShowsTheDip) {
   const std::string msh = (std::filesystem::temp_directory_path() / "pilelab_fpa_test_wedge.msh").string();

@@ -70,3 +70,35 @@ TEST(MeanOutline, OfOneOutlineIsThatOutlineOnTheGrid) {
 }
 
 TEST(MeanOutline, OfNothingIsAnError) { EXPECT_THROW(mean_outline({}, 0.01), pilelab::InputError); }
+
+// The moving average of a tent h(x) (flanks of slope t = tan(phi), apex height H) over a window w
+// narrower than a flank: linear parts stay exactly as they were; the apex drops to H - w t / 4
+// (the mean of the tent over the window centred on it); the toes spread by w / 2; the area is
+// kept (an average moves no material), up to the trapezoid error of the w / 16 sampling on the
+// three quadratic pieces, sum of slope changes x spacing^2 / 12 = 4 t (w / 16)^2 / 12.
+TEST(SmoothedOutline, KeepsStraightFlanksAndAreaAndRoundsTheApexAsTheoryGives) {
+  const double t = std::tan(28.0 * M_PI / 180.0), H = 0.3, w = 0.02;
+  Outline tent;
+  tent.surface = {{-H / t, 0.0}, {0.0, H}, {H / t, 0.0}};
+  tent.apex_index = 1;
+  const Outline s = smoothed_outline(tent, w);
+  EXPECT_DOUBLE_EQ(s.surface.front().x(), -H / t - w / 2);
+  EXPECT_DOUBLE_EQ(s.surface.back().x(), H / t + w / 2);
+  const double spacing = (2 * H / t + w) / (s.surface.size() - 1);
+  double area = 0, top = 0;
+  for (std::size_t i = 0; i + 1 < s.surface.size(); ++i)
+    area += 0.5 * (s.surface[i].y() + s.surface[i + 1].y()) * (s.surface[i + 1].x() - s.surface[i].x());
+  for (const Vec2& p : s.surface) {
+    top = std::max(top, p.y());
+    const double x = std::abs(p.x());
+    if (x > w / 2 && x < H / t - w / 2) EXPECT_NEAR(p.y(), H - t * x, 1e-14) << "x = " << p.x();
+  }
+  EXPECT_NEAR(area, H * H / t, 4 * t * spacing * spacing / 12);
+  // The sampled peak is the smoothed apex, or a sample at most half a spacing from it on the
+  // parabola of curvature 2 t / w.
+  EXPECT_LE(top, H - w * t / 4 + 1e-15);
+  EXPECT_GE(top, H - w * t / 4 - t * spacing * spacing / (4 * w));
+  EXPECT_EQ(s.surface[s.apex_index].y(), top);
+  // No smoothing: the outline as it was.
+  EXPECT_EQ(smoothed_outline(tent, 0.0).surface.size(), tent.surface.size());
+}

@@ -24,13 +24,12 @@ class WindowAndMeshExtremes : public CliTest {
   // Mesh the pile's outline, coarse-grain it and, with the continuum module, solve both models
   // on it: the scene's [mesh] and [coarse] lines given.
   pilelab::test::CommandResult run_stages(const std::string& mesh_lines, const std::string& coarse_lines) {
-    const std::string scene = write_scene(
-        "scene.toml", "[mesh]\nkind = \"dem_outline\"\ndem_file = \"" + pile_dir_ + "/dem.h5\"\n" + mesh_lines +
-                          "\n[coarse]\ndem_files = [\"" + pile_dir_ + "/dem.h5\"]\n" + coarse_lines +
+    std::string text = "[mesh]\nkind = \"dem_outline\"\ndem_file = \"" + pile_dir_ + "/dem.h5\"\n" + mesh_lines +
+                       "\n[coarse]\ndem_files = [\"" + pile_dir_ + "/dem.h5\"]\n" + coarse_lines + "\n";
 #ifdef PILELAB_WITH_CONTINUUM
-                          "\n[continuum]\nmodels = [\"elastic\", \"fpa\"]\n[continuum.elastic]\ndegree = 1\n"
+    text += "[continuum]\nmodels = [\"elastic\", \"fpa\"]\n[continuum.elastic]\ndegree = 1\n";
 #endif
-    );
+    const std::string scene = write_scene("scene.toml", text);
     const std::string pilelab = "timeout 900 " + std::string(PILELAB_BINARY);
     std::string cmd = "( " + pilelab + " mesh " + scene + " -o " + path("out") + " && " + pilelab + " coarse " + scene + " -o " + path("out");
 #ifdef PILELAB_WITH_CONTINUUM

@@ -12,7 +12,9 @@
 // 5250 of its 6500 grains poured); without it the benchmark is skipped.
 // PILELAB_BENCH_GRAINS=N builds the synthetic heap of N grains instead of 6500 (the extremes'
 // 50 000-grain pile), and PILELAB_BENCH_SETTLE_S the time it is let fall together (0.6 s).
-// Threads: OMP_NUM_THREADS.
+// PILELAB_BENCH_SKIN sets the Verlet-list skin (neighbour_skin_fraction; speed only, so a pour's
+// checkpoint still continues). Threads: OMP_NUM_THREADS.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -36,16 +38,17 @@ using namespace pilelab;
 using namespace pilelab::dem;
 
 namespace {
+double environment_number(const char* name, double fallback) {
+  const char* text = std::getenv(name);
+  return text ? std::atof(text) : fallback;
+}
+
 WorldSettings paper_settings(Scheme scheme, double stable_limit) {
   WorldSettings s;  // the defaults are the paper's contact law
   s.scheme = scheme;
   s.time_step = 0.8 * stable_limit;
+  s.neighbour_skin_fraction = environment_number("PILELAB_BENCH_SKIN", s.neighbour_skin_fraction);
   return s;
-}
-
-double environment_number(const char* name, double fallback) {
-  const char* text = std::getenv(name);
-  return text ? std::atof(text) : fallback;
 }
 
 World synthetic_pile(Scheme scheme) {
@@ -137,19 +140,26 @@ void BM_PourStep(benchmark::State& state) {
   }
   const std::string scene_path = std::string(dir) + "/scene.toml";
   SceneReader reader = SceneReader::from_file(scene_path);
-  PileProtocol protocol(read_dem_scene(reader), scene_path);
+  DemScene scene = read_dem_scene(reader);
+  scene.neighbour_skin_fraction = environment_number("PILELAB_BENCH_SKIN", scene.neighbour_skin_fraction);
+  PileProtocol protocol(scene, scene_path);
   RunCounters counters;
   read_checkpoint(std::string(dir) + "/checkpoint.h5", reader.text(), protocol, counters);
   World& w = protocol.world();
   const StepProfile before = w.profile();
   double grain_steps = 0.0;
-  std::size_t contacts = 0, candidates = 0;
+  std::size_t contacts = 0, candidates = 0, listed = 0;
+  const std::int64_t builds_before = w.neighbour_builds();
   for (auto _ : state) {
     protocol.step();
     grain_steps += double(w.active_grains().size());
     contacts += w.contact_count();
     candidates += w.candidate_count();
+    listed += w.neighbour_count();
   }
+  state.counters["listed_pairs_per_grain"] = double(listed) / grain_steps;
+  state.counters["steps_per_list_build"] =
+      double(state.iterations()) / std::max<double>(1.0, double(w.neighbour_builds() - builds_before));
   state.counters["grains"] = grain_steps / double(state.iterations());
   state.counters["threads"] = omp_get_max_threads();
   state.counters["particle_steps_per_s"] = benchmark::Counter(grain_steps, benchmark::Counter::kIsRate);

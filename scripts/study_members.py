@@ -13,7 +13,8 @@ copied again.
 
 restore: the reverse, into OUT/members/<seed>/, for `pilelab run` to find: an archived
 member counts as poured (its scene, dem.h5 and report are there), a checkpointed one continues
-from its checkpoint. Members present in OUT already are left alone.
+from its checkpoint. Members poured in OUT already are left alone, and so is a checkpoint in
+OUT (it may be newer than the archive's), unless the archive holds the member poured.
 """
 import filecmp
 import json
@@ -76,8 +77,14 @@ def restore(members, study):
             continue
         for seed in sorted(os.listdir(root)):
             member = os.path.join(members, seed)
-            if poured(member) or os.path.exists(os.path.join(member, "checkpoint.h5")):
+            if poured(member):
                 continue
+            if os.path.exists(os.path.join(member, "checkpoint.h5")):
+                # A checkpoint here may be newer than the archive's; a poured member archived
+                # since (another machine finished it) supersedes it.
+                if kind == "checkpoints":
+                    continue
+                shutil.rmtree(member)
             os.makedirs(member, exist_ok=True)
             for name in os.listdir(os.path.join(root, seed)):
                 shutil.copyfile(os.path.join(root, seed, name), os.path.join(member, name))

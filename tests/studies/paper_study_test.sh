@@ -18,6 +18,13 @@ for kind in symmetric asymmetric monodisperse; do
   /usr/bin/python3 "$source_dir/studies/paper/stages.py" "$scene" "$work/study/$kind" "$work/stages/$kind" \
     --pilelab "$pilelab" > "$work/stages-$kind.log"
 done
+# A member archived as poured replaces a checkpoint of it where it is restored (else the stages
+# would pour it again from that checkpoint).
+first=$(ls "$work/study/symmetric/data" | head -n 1)
+mkdir -p "$work/restore/$first" && echo stale > "$work/restore/$first/checkpoint.h5"
+/usr/bin/python3 "$source_dir/scripts/study_members.py" restore "$work/restore" "$work/study/symmetric" > /dev/null
+[[ -f $work/restore/$first/dem.h5 && ! -e $work/restore/$first/checkpoint.h5 ]] ||
+  { echo "study_members.py restore kept a checkpoint over the archived member $first" >&2; exit 1; }
 cp "$source_dir/docs/studies/paper.md" "$work/paper.md"
 /usr/bin/python3 "$source_dir/studies/paper/tables.py" "$work/study" --doc "$work/paper.md" --figures "$work/figures"
 /usr/bin/python3 "$source_dir/tests/studies/check_paper_tables.py" "$work/paper.md" "$work/figures"

@@ -68,6 +68,11 @@ def jackknife_se(leave_out):
     return float(np.sqrt((n - 1) / n * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0)))
 
 
+def member_angle(m):
+    """A pile's repose angle: the mean of its two flanks' (as the ensemble's pile_mean)."""
+    return 0.5 * (m["repose_angle_left_deg"] + m["repose_angle_right_deg"])
+
+
 def difference(d, ref, key, relative=False):
     a, sa = d["quantities"].get(key, [None, None])
     b, sb = ref["quantities"].get(key, [None, None])
@@ -75,7 +80,12 @@ def difference(d, ref, key, relative=False):
         return None, None
     diff = a - b
     la, lb = d.get("leave_one_out", {}).get(key), ref.get("leave_one_out", {}).get(key)
-    if paired(d, ref) and la is not None and lb is not None:
+    if key == "repose_angle_pile_mean_deg" and paired(d, ref) and d.get("members") and ref.get("members"):
+        # Each pile's own angles are measured: the difference of the means is the mean of the
+        # piles' differences, and its standard error that of a paired sample.
+        per_pile = np.array([member_angle(m) for m in d["members"]]) - np.array([member_angle(m) for m in ref["members"]])
+        se = float(per_pile.std(ddof=1) / np.sqrt(len(per_pile))) if len(per_pile) > 1 else None
+    elif paired(d, ref) and la is not None and lb is not None:
         se = jackknife_se(np.array(la, dtype=float) - np.array(lb, dtype=float))
     else:
         se = float(np.hypot(sa, sb))

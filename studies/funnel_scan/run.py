@@ -9,10 +9,11 @@ and came out 28 degrees on the left and 21 on the right; ours, with the funnel t
 the base half-width, show no asymmetry (docs/studies/paper.md). The paper gives neither the
 speed nor the travel, so this scans them: piles of scenes/paper-asymmetric.toml's grains and
 contact law, 800 grains each (a pour of 8 s at 100 grains/s), with the funnel moving during the
-whole pour over a travel of 0, 0.5, 1 and 2 times the fixed-funnel pile's base half-width
-(about 0.25 m), centred on the plate. Each travel is an ensemble of the same 6 seeds, poured by
-`pilelab run` (resumable: members already poured are kept). Every member's angles go to
-docs/studies/funnel_scan/angles.csv, from which --table prints the table of the study's doc.
+whole pour over a travel of 0, 0.35 (as in scenes/paper-asymmetric.toml), 0.5, 1 and 2 times
+the fixed-funnel pile's base half-width R (about 0.25 m), centred on the plate. Each travel is
+an ensemble of the same 6 seeds, poured by `pilelab run` (resumable: members already poured are
+kept). Every member's angles go to docs/studies/funnel_scan/angles.csv, from which --table
+prints the table of the study's doc.
 """
 import argparse
 import csv
@@ -30,7 +31,7 @@ CSV = os.path.join(ROOT, "docs", "studies", "funnel_scan", "angles.csv")
 GRAINS, RATE = 800, 100.0  # a pour of GRAINS / RATE = 8 s
 POUR_TIME_S = GRAINS / RATE
 HALF_WIDTH_M = 0.25        # base half-width of the 800-grain pile from a fixed funnel
-TRAVELS = [0.0, 0.5, 1.0, 2.0]  # funnel travel over HALF_WIDTH_M
+TRAVELS = [0.0, 0.5, 1.0, 2.0, 0.35]  # funnel travel over HALF_WIDTH_M; 0.35: that of paper-asymmetric.toml
 SEEDS = 6
 FIELDS = ["travel_over_R", "funnel_speed_m_per_s", "seed", "repose_angle_left_deg", "repose_angle_right_deg",
           "height_m", "apex_x_m", "lost"]

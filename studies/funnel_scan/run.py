@@ -2,18 +2,18 @@
 """Does a moving funnel make an asymmetric pile, and how fast must it move? (docs/studies/funnel_scan.md)
 
     /usr/bin/python3 studies/funnel_scan/run.py [-P PROCESSES] [--out DIR] [--pilelab BIN]
-    /usr/bin/python3 studies/funnel_scan/run.py --table     # the table from the committed CSV only
+    /usr/bin/python3 studies/funnel_scan/run.py --table     # table and figure from the committed CSV only
 
 The paper's asymmetric piles (section 5) were poured from a funnel moved "slowly" to the right
 and came out 28 degrees on the left and 21 on the right; ours, with the funnel travelling 0.35 of
 the base half-width, show no asymmetry (docs/studies/paper.md). The paper gives neither the
 speed nor the travel, so this scans them: piles of scenes/paper-asymmetric.toml's grains and
 contact law, 800 grains each (a pour of 8 s at 100 grains/s), with the funnel moving during the
-whole pour over a travel of 0, 0.35 (as in scenes/paper-asymmetric.toml), 0.5, 1 and 2 times
+whole pour over a travel of 0, 0.25, 0.35 (as in paper-asymmetric.toml), 0.5, 0.75, 1 and 2 times
 the fixed-funnel pile's base half-width R (about 0.25 m), centred on the plate. Each travel is
 an ensemble of the same 6 seeds, poured by `pilelab run` (resumable: members already poured are
 kept). Every member's angles go to docs/studies/funnel_scan/angles.csv, from which --table
-prints the table of the study's doc.
+prints the table of the study's doc and draws docs/studies/funnel_scan/angles.png.
 """
 import argparse
 import csv
@@ -26,12 +26,14 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "studies", "paper"))
 import stages  # noqa: E402  (scene_with: one key of a scene rewritten)
+import tables as paper_tables  # noqa: E402  (replace_between_markers)
 
 CSV = os.path.join(ROOT, "docs", "studies", "funnel_scan", "angles.csv")
+DOC = os.path.join(ROOT, "docs", "studies", "funnel_scan.md")
 GRAINS, RATE = 800, 100.0  # a pour of GRAINS / RATE = 8 s
 POUR_TIME_S = GRAINS / RATE
 HALF_WIDTH_M = 0.25        # base half-width of the 800-grain pile from a fixed funnel
-TRAVELS = [0.0, 0.5, 1.0, 2.0, 0.35]  # funnel travel over HALF_WIDTH_M; 0.35: that of paper-asymmetric.toml
+TRAVELS = [0.0, 0.5, 1.0, 2.0, 0.35, 0.25, 0.75]  # over HALF_WIDTH_M; 0.35: paper-asymmetric.toml's
 SEEDS = 6
 FIELDS = ["travel_over_R", "funnel_speed_m_per_s", "seed", "repose_angle_left_deg", "repose_angle_right_deg",
           "height_m", "apex_x_m", "lost"]
@@ -84,6 +86,7 @@ def run(args):
                          "apex_x_m": dem["apex_x_m"], "lost": m["lost"]})
         write_csv(rows)  # after every travel, so that a stopped scan keeps what it measured
     table()
+    figure()
 
 
 def write_csv(rows):
@@ -104,12 +107,13 @@ def mean_se(values):
 
 
 def table():
-    """The study's table: per travel, the mean angles and their difference (left minus right,
-    paired within each pile) with one standard error over the piles."""
+    """The study's table, printed and written into docs/studies/funnel_scan.md between its
+    markers: per travel, the mean angles and their difference (left minus right, paired within
+    each pile) with one standard error over the piles."""
     with open(CSV, encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
-    print("| funnel travel / R | funnel speed (m/s) | piles | left (deg) | right (deg) | left - right (deg) | apex x (m) |")
-    print("|---|---|---|---|---|---|---|")
+    lines = ["| funnel travel / R | funnel speed (m/s) | piles | left (deg) | right (deg) | left - right (deg) | apex x (m) |",
+             "|---|---|---|---|---|---|---|"]
     for travel in sorted({float(r["travel_over_R"]) for r in rows}):
         rs = [r for r in rows if float(r["travel_over_R"]) == travel]
         left = [float(r["repose_angle_left_deg"]) for r in rs]
@@ -117,7 +121,39 @@ def table():
         cells = [mean_se(left), mean_se(right), mean_se([a - b for a, b in zip(left, right)]),
                  mean_se([float(r["apex_x_m"]) for r in rs])]
         text = [f"{m:.1f} ± {s:.1f}" for m, s in cells[:3]] + [f"{cells[3][0]:+.3f} ± {cells[3][1]:.3f}"]
-        print(f"| {travel:g} | {float(rs[0]['funnel_speed_m_per_s']):.4f} | {len(rs)} | " + " | ".join(text) + " |")
+        lines.append(f"| {travel:g} | {float(rs[0]['funnel_speed_m_per_s']):.4f} | {len(rs)} | " + " | ".join(text) + " |")
+    text = "\n".join(lines) + "\n"
+    print(text, end="")
+    paper_tables.replace_between_markers(DOC, "studies/funnel_scan/run.py --table", text)
+
+
+def figure():
+    """docs/studies/funnel_scan/angles.png: each flank's mean angle against the funnel's travel,
+    with one standard error, beside the paper's 28 and 21 degrees."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    with open(CSV, encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    travels = sorted({float(r["travel_over_R"]) for r in rows})
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for key, label, colour in (("repose_angle_left_deg", "left flank (trailing)", "tab:blue"),
+                               ("repose_angle_right_deg", "right flank (the funnel moves towards it)", "tab:red")):
+        stats = [mean_se([float(r[key]) for r in rows if float(r["travel_over_R"]) == t]) for t in travels]
+        ax.errorbar(travels, [m for m, _ in stats], yerr=[s for _, s in stats], fmt="o-", color=colour,
+                    capsize=3, label=label)
+    ax.axhline(28, color="tab:blue", ls=":", lw=1, label="paper, left (3900 grains)")
+    ax.axhline(21, color="tab:red", ls=":", lw=1, label="paper, right")
+    ax.set_xlabel("funnel travel during the pour / base half-width R of a fixed-funnel pile")
+    ax.set_ylabel("repose angle (deg)")
+    n = len([r for r in rows if float(r["travel_over_R"]) == travels[0]])
+    ax.set_title(f"800-grain piles, {n} seeds per travel, mean ± 1 SE", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(os.path.dirname(CSV), "angles.png")
+    fig.savefig(path + ".tmp.png", dpi=110)
+    os.replace(path + ".tmp.png", path)
+    plt.close(fig)
 
 
 def main():
@@ -129,6 +165,7 @@ def main():
     args = parser.parse_args()
     if args.table:
         table()
+        figure()
     else:
         run(args)
 

@@ -503,10 +503,12 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   if (settings.method != CoarseSettings::Method::rve)
     for (Pile& p : piles) {
       p.kernel = std::make_unique<KernelAverager>(
-          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width);
+          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width,
+          domain, settings.clip_volume);
       if (p.later) {
         p.kernel->set_displacements(*p.later);
-        p.kernel_later = std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width);
+        p.kernel_later =
+            std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width, domain, settings.clip_volume);
       }
     }
   const EnsembleSampler sampler(piles, radius);

@@ -1,6 +1,7 @@
 #include "coarse/kernel_average.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -15,8 +16,99 @@ double kernel_value(Kernel kernel, double r, double w) {
 
 double kernel_support(Kernel kernel, double w) { return kernel == Kernel::gaussian ? 3 * w : w; }
 
-KernelAverager::KernelAverager(const Packing& packing, Kernel kernel, double width)
-    : packing_(packing), kernel_(kernel), width_(width), support_(kernel_support(kernel, width)) {
+namespace {
+// Phi(r) / r^2, where Phi(r) = int_0^r phi(s) s ds is the kernel's mass within r over 2 pi:
+// written so that it stays exact as r -> 0. Beyond the support Phi is its total.
+double mass_within_over_r2(Kernel kernel, double r, double w) {
+  const double support = kernel_support(kernel, w);
+  if (kernel == Kernel::gaussian) {
+    const double x = std::min(r, support) * std::min(r, support) / (w * w);  // Phi = (1 - e^-x) / 2 pi
+    const double phi = x > 1e-8 ? -std::expm1(-x) / x : 1.0 - 0.5 * x;      // (1 - e^-x) / x
+    return r <= support ? phi / (2 * M_PI * w * w) : -std::expm1(-9.0) / (2 * M_PI * r * r);
+  }
+  if (r >= w) return 0.1 * 5.0 / (M_PI * r * r);  // Phi(w) = 1 / 2 pi
+  // Phi = (5/pi) (s^2/2 - 3 s^4/2 + 8 s^5/5 - s^6/2), s = r / w: the integral of (1+3t)(1-t)^3 t.
+  const double s = r / w;
+  return 5.0 / (M_PI * w * w) * (0.5 + s * s * (-1.5 + s * (1.6 - 0.5 * s)));
+}
+
+// The signed kernel mass in the triangle (point, a, b): in polar coordinates about the point,
+// int dtheta Phi(rho(theta)), or along the edge q(t) = a + t (b - a) - point,
+//   int_0^1 Phi(|q|) / |q|^2 cross(q(0), b - a) dt.
+// Where |q| exceeds the support Phi is constant and the piece is Phi_total times its angle; the
+// rest is split where the edge crosses the support's circle and into pieces shorter than the
+// kernel width, on which the integrand is smooth (Phi(r)/r^2 is analytic in r^2), and summed by
+// an 8-point Gauss-Legendre rule.
+double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, const Vec2& b) {
+  static const double gx[8] = {0.019855071751231856, 0.10166676129318664, 0.2372337950418355,
+                               0.4082826787521751,  0.5917173212478249,  0.7627662049581645,
+                               0.8983332387068134,  0.9801449282487681};
+  static const double gw[8] = {0.050614268145188129, 0.11119051722668724, 0.15685332293894364,
+                               0.18134189168918099,  0.18134189168918099, 0.15685332293894364,
+                               0.11119051722668724,  0.050614268145188129};
+  const Vec2 p = a - point, d = b - a;
+  const double c = p.x() * d.y() - p.y() * d.x();  // cross(p, d): twice the triangle's signed area
+  const double dd = d.squaredNorm();
+  if (dd == 0.0 || c == 0.0) return 0.0;
+  const double support = kernel_support(kernel, w);
+  const double total = 2 * M_PI * support * support * mass_within_over_r2(kernel, support, w);  // 2 pi Phi_total
+  const auto angle = [&](double t0, double t1) {  // signed angle swept from q(t0) to q(t1)
+    const Vec2 q0 = p + t0 * d, q1 = p + t1 * d;
+    return std::atan2(q0.x() * q1.y() - q0.y() * q1.x(), q0.dot(q1));
+  };
+  // The edge's parameters where |q(t)| = support, clamped to [0, 1].
+  const double t_foot = -p.dot(d) / dd;
+  const double h2 = (p + t_foot * d).squaredNorm();
+  double lo = 0.0, hi = 0.0;  // the inside piece [lo, hi]
+  if (h2 < support * support) {
+    const double half = std::sqrt((support * support - h2) / dd);
+    lo = std::clamp(t_foot - half, 0.0, 1.0);
+    hi = std::clamp(t_foot + half, 0.0, 1.0);
+  }
+  double mass = 0.0;
+  if (lo > 0.0) mass += total / (2 * M_PI) * angle(0.0, lo);
+  if (hi < 1.0) mass += total / (2 * M_PI) * angle(std::max(hi, lo), 1.0);
+  if (hi > lo) {
+    const int pieces = std::max(1, static_cast<int>(std::ceil((hi - lo) * std::sqrt(dd) / w)));
+    const double step = (hi - lo) / pieces;
+    for (int k = 0; k < pieces; ++k)
+      for (int i = 0; i < 8; ++i) {
+        const double t = lo + (k + gx[i]) * step;
+        const Vec2 q = p + t * d;
+        mass += gw[i] * step * mass_within_over_r2(kernel, q.norm(), w) * c;
+      }
+  }
+  return mass;
+}
+}  // namespace
+
+double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width, const Vec2& point) {
+  if (domain.empty()) return 1.0;
+  const double support = kernel_support(kernel, width);
+  // Wholly inside: no edge comes within the support (and the point is inside).
+  bool near_edge = false;
+  for (const auto& [a, b] : domain.edges) {
+    const Vec2 d = b - a;
+    const double t = d.squaredNorm() > 0 ? std::clamp((point - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    if ((a + t * d - point).squaredNorm() < support * support) {
+      near_edge = true;
+      break;
+    }
+  }
+  if (!near_edge) return domain.contains(point) ? 1.0 : 0.0;
+  double mass = 0.0;
+  for (const auto& [a, b] : domain.edges) mass += triangle_mass(kernel, width, point, a, b);
+  const double total = 2 * M_PI * support * support * mass_within_over_r2(kernel, support, width);
+  return std::clamp(mass / total, 0.0, 1.0);
+}
+
+KernelAverager::KernelAverager(const Packing& packing, Kernel kernel, double width, Domain domain, bool clip_volume)
+    : packing_(packing),
+      kernel_(kernel),
+      width_(width),
+      support_(kernel_support(kernel, width)),
+      domain_(std::move(domain)),
+      clip_volume_(clip_volume) {
   const std::size_t n = packing.grains.size();
   contacts_of_.assign(n, {});
   fabric_.assign(n, Tensor::Zero());
@@ -44,10 +136,15 @@ void KernelAverager::set_displacements(const Packing& later) {
   grain_displacements(packing_, later, displacement_, has_displacement_);
 }
 
+double KernelAverager::normalisation(const Vec2& point) const {
+  return clip_volume_ ? kernel_mass_fraction_in(domain_, kernel_, width_, point) : 1.0;
+}
+
 double KernelAverager::density(const Vec2& point) const {
   double rho = 0;
   grid_.for_each_near(point, support_, [&](int p) { rho += packing_.grains[p].mass * phi(point - packing_.grains[p].centre); });
-  return rho;
+  const double f = normalisation(point);
+  return f > 0 ? rho / f : 0.0;
 }
 
 RveSample KernelAverager::average(const Vec2& point) const {
@@ -93,6 +190,13 @@ RveSample KernelAverager::average(const Vec2& point) const {
     s.grain_count = 0;
     s.stress.setZero();
     return s;
+  }
+  // The densities count only the material inside: divided by the kernel's mass there.
+  const double f = normalisation(point);
+  if (f > 0 && f != 1.0) {
+    s.stress /= f;
+    s.fabric /= f;
+    s.volume_fraction /= f;
   }
   s.coordination = contacts / weight_sum;
   if (moved_weight > 0) s.displacement /= moved_weight;

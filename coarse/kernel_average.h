@@ -13,6 +13,14 @@
 // integral: the momentum balance the RVE average only approaches.
 // Fabric, coordination and volume fraction are kernel-weighted grain sums; the strain is
 // Cambou's fit with each contact weighted by the kernel at its branch midpoint.
+//
+// Near a boundary part of the kernel lies outside the material (below the plate, above the
+// free surface) and would dilute every density: at the plate by half. With a domain and
+// clip_volume (the RVE's rule, coarse.rve_volume = "clipped"), volume fraction, fabric and
+// stress are divided by the fraction of the kernel's mass inside the domain,
+//   f(r) = int_domain phi(r - y) dy / int_plane phi,
+// as the RVE divides by the part of its disc inside the pile. f = 1 wherever the kernel's
+// support lies inside, so there the fields and the momentum balance above are unchanged.
 #include "coarse/rve_average.h"
 
 namespace pilelab::coarse {
@@ -24,9 +32,15 @@ enum class Kernel { gaussian, lucy };
 double kernel_value(Kernel kernel, double r, double width);
 double kernel_support(Kernel kernel, double width);
 
+/// The fraction of the kernel's mass about point that lies inside the domain (1 for an empty
+/// domain, the whole plane). Exact up to a Gauss-Legendre rule on smooth pieces (about 1e-12).
+double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width, const Vec2& point);
+
 class KernelAverager {
  public:
-  KernelAverager(const Packing& packing, Kernel kernel, double width);
+  /// With a domain and clip_volume, the densities are divided by the kernel's mass fraction
+  /// inside the domain (see above); without, they are the plain kernel sums.
+  KernelAverager(const Packing& packing, Kernel kernel, double width, Domain domain = {}, bool clip_volume = true);
   void set_displacements(const Packing& later);
   /// The fields at a point, in the RveSample layout (volume is 0: the kernel has no edge;
   /// grain_count counts the grains within the kernel's support).
@@ -36,9 +50,13 @@ class KernelAverager {
 
  private:
   double phi(const Vec2& d) const { return kernel_value(kernel_, d.norm(), width_); }
+  /// What the densities at point are divided by: the kernel's mass fraction in the domain, or 1.
+  double normalisation(const Vec2& point) const;
   const Packing& packing_;
   Kernel kernel_;
   double width_, support_;
+  Domain domain_;
+  bool clip_volume_ = true;
   double max_bounding_radius_ = 0.0;
   GrainGrid grid_;
   std::vector<std::vector<int>> contacts_of_;  ///< per grain: contacts where it is grain a

@@ -66,3 +66,96 @@ TEST(KernelAverage, DivergenceOfStressIsTheNetContactForceDensity) {
     EXPECT_LT((div - expected).norm(), 1e-4 * scale) << x.transpose();
   }
 }
+
+namespace {
+// A closed polygon (counter-clockwise corners) as a domain.
+Domain polygon_domain(const std::vector<Vec2>& corners) {
+  Domain d;
+  for (std::size_t i = 0; i < corners.size(); ++i) d.edges.emplace_back(corners[i], corners[(i + 1) % corners.size()]);
+  return d;
+}
+}  // namespace
+
+// A radial kernel centred on a corner of angle alpha, its support inside the corner's two
+// edges, has alpha / 2 pi of its mass inside: exactly, whatever the kernel. On a straight
+// edge (alpha = pi) that is one half; deep inside, all.
+TEST(KernelAverage, MassFractionAtCornersIsTheirAngleOver2Pi) {
+  const double w = 0.1;
+  for (Kernel k : {Kernel::gaussian, Kernel::lucy}) {
+    const double L = 10 * kernel_support(k, w);
+    const Domain square = polygon_domain({{0, 0}, {L, 0}, {L, L}, {0, L}});
+    EXPECT_NEAR(kernel_mass_fraction_in(square, k, w, {0, 0}), 0.25, 1e-12);           // a right angle
+    EXPECT_NEAR(kernel_mass_fraction_in(square, k, w, {0.5 * L, 0}), 0.5, 1e-12);      // a straight edge
+    EXPECT_EQ(kernel_mass_fraction_in(square, k, w, {0.5 * L, 0.5 * L}), 1.0);         // deep inside
+    EXPECT_EQ(kernel_mass_fraction_in(square, k, w, {2 * L, 0.5 * L}), 0.0);           // far outside
+    // The apex of a pile-like wedge: flanks at 25 degrees to the base, interior angle 130.
+    const double a = 25 * M_PI / 180;
+    const Domain wedge = polygon_domain({{-L * std::cos(a), 0}, {L * std::cos(a), 0}, {0, L * std::sin(a)}});
+    EXPECT_NEAR(kernel_mass_fraction_in(wedge, k, w, {0, L * std::sin(a)}), (M_PI - 2 * a) / (2 * M_PI), 1e-12);
+    EXPECT_NEAR(kernel_mass_fraction_in(polygon_domain({}), k, w, {0, 0}), 1.0, 0.0);  // no domain: the plane
+  }
+}
+
+// At a distance y0 from a straight edge the Gaussian kernel, were it not cut, would have
+// 1 - erfc(y0 / w) / 2 of its mass inside; the cut at 3 w changes a fraction by at most
+// e^-9 / (1 - e^-9) = 1.2e-4. And complementary domains share the kernel's mass.
+TEST(KernelAverage, MassFractionNearAnEdgeIsTheErfOfTheDistance) {
+  const double w = 0.1, L = 5.0;
+  const Domain upper = polygon_domain({{-L, 0}, {L, 0}, {L, L}, {-L, L}});
+  const Domain lower = polygon_domain({{-L, -L}, {L, -L}, {L, 0}, {-L, 0}});
+  for (double y0 : {0.01, 0.05, 0.1, 0.2}) {
+    const double f = kernel_mass_fraction_in(upper, Kernel::gaussian, w, {0.3, y0});
+    EXPECT_NEAR(f, 1 - 0.5 * std::erfc(y0 / w), 1.3e-4) << y0;
+    for (Kernel k : {Kernel::gaussian, Kernel::lucy})
+      EXPECT_NEAR(kernel_mass_fraction_in(upper, k, w, {0.3, y0}) + kernel_mass_fraction_in(lower, k, w, {0.3, y0}),
+                  1.0, 1e-12);
+  }
+}
+
+// The Lucy kernel's mass beyond a line at distance y0 < w, summed independently by a nested
+// midpoint rule over the cut-off cap (error O(1/n^2): below 1e-6 at n = 1000).
+TEST(KernelAverage, LucyMassFractionNearAnEdgeMatchesDirectQuadrature) {
+  const double w = 0.1, L = 5.0;
+  const Domain upper = polygon_domain({{-L, 0}, {L, 0}, {L, L}, {-L, L}});
+  const int n = 1000;
+  for (double y0 : {0.001, 0.02, 0.05, 0.08}) {
+    double outside = 0;
+    for (int i = 0; i < n; ++i) {
+      const double y = y0 + (w - y0) * (i + 0.5) / n, half = std::sqrt(w * w - y * y);
+      for (int j = 0; j < n; ++j) {
+        const double x = -half + 2 * half * (j + 0.5) / n;
+        outside += kernel_value(Kernel::lucy, std::hypot(x, y), w) * (2 * half / n) * ((w - y0) / n);
+      }
+    }
+    EXPECT_NEAR(kernel_mass_fraction_in(upper, Kernel::lucy, w, {0.3, y0}), 1 - outside, 1e-6) << y0;
+  }
+}
+
+// A material filling a rectangle uniformly (grains on a square lattice of spacing s, area a
+// each: volume fraction a / s^2). Near its edge the plain kernel sum is diluted by the part of
+// the kernel outside; clipped to the domain it is the bulk value again, up to the lattice's
+// midpoint-rule error, O((s / w)^2) (here s = w / 50: about 1e-3 at most).
+TEST(KernelAverage, ClippedToTheDomainADensityIsNotDilutedAtTheBoundary) {
+  const double w = 0.05, s = w / 50, a = 0.5 * s * s, L = 0.4;
+  Packing p;
+  for (int i = 0; i * s < L; ++i)
+    for (int j = 0; j * s < L; ++j) {
+      Grain g;
+      g.body = static_cast<int>(p.grains.size());
+      g.centre = {(i + 0.5) * s, (j + 0.5) * s};
+      g.mass = a;
+      g.area = a;
+      p.grains.push_back(g);
+    }
+  const double extent = std::ceil(L / s) * s;
+  const Domain box = polygon_domain({{0, 0}, {extent, 0}, {extent, extent}, {0, extent}});
+  for (Kernel k : {Kernel::lucy, Kernel::gaussian}) {
+    const KernelAverager clipped(p, k, w, box, true), plain(p, k, w, box, false);
+    const Vec2 at_base(0.5 * extent, 0.2 * w), inside(0.5 * extent, 0.5 * extent);
+    EXPECT_NEAR(clipped.average(inside).volume_fraction, 0.5, 2e-3);
+    EXPECT_NEAR(clipped.average(at_base).volume_fraction, 0.5, 2e-3);
+    EXPECT_LT(plain.average(at_base).volume_fraction, 0.5 * 0.9);  // the dilution the clip removes
+    EXPECT_NEAR(clipped.average(at_base).volume_fraction,
+                plain.average(at_base).volume_fraction / kernel_mass_fraction_in(box, k, w, at_base), 1e-12);
+  }
+}

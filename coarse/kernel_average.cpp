@@ -68,15 +68,25 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
   double mass = 0.0;
   if (lo > 0.0) mass += total / (2 * M_PI) * angle(0.0, lo);
   if (hi < 1.0) mass += total / (2 * M_PI) * angle(std::max(hi, lo), 1.0);
-  if (hi > lo) {
-    const int pieces = std::max(1, static_cast<int>(std::ceil((hi - lo) * std::sqrt(dd) / w)));
-    const double step = (hi - lo) / pieces;
+  // The inside piece, split at the edge's point nearest to the point as well: there |q| =
+  // sqrt(h^2 + |d|^2 (t - t_foot)^2) turns, and Lucy's Phi / r^2 holds |q|^3, smooth on
+  // either side of that point but not across it.
+  const auto gauss = [&](double t0, double t1) {
+    const int pieces = std::max(1, static_cast<int>(std::ceil((t1 - t0) * std::sqrt(dd) / w)));
+    const double step = (t1 - t0) / pieces;
+    double sum = 0.0;
     for (int k = 0; k < pieces; ++k)
       for (int i = 0; i < 8; ++i) {
-        const double t = lo + (k + gx[i]) * step;
-        const Vec2 q = p + t * d;
-        mass += gw[i] * step * mass_within_over_r2(kernel, q.norm(), w) * c;
+        const Vec2 q = p + (t0 + (k + gx[i]) * step) * d;
+        sum += gw[i] * step * mass_within_over_r2(kernel, q.norm(), w);
       }
+    return sum * c;
+  };
+  if (hi > lo) {
+    if (t_foot > lo && t_foot < hi)
+      mass += gauss(lo, t_foot) + gauss(t_foot, hi);
+    else
+      mass += gauss(lo, hi);
   }
   return mass;
 }
@@ -144,7 +154,7 @@ double KernelAverager::density(const Vec2& point) const {
   double rho = 0;
   grid_.for_each_near(point, support_, [&](int p) { rho += packing_.grains[p].mass * phi(point - packing_.grains[p].centre); });
   const double f = normalisation(point);
-  return f > 0 ? rho / f : 0.0;
+  return f > 0 ? rho / f : rho;  // f = 0: a point whose kernel holds no material; as average()
 }
 
 RveSample KernelAverager::average(const Vec2& point) const {

@@ -11,7 +11,10 @@ members (copied). Then the setting's measurements go to docs/studies/speed_accur
 <name>.json: every member's cost and angles, and every quantity of the ensemble with its
 standard error (the jackknife over piles, as in the paper study). Resumable at both levels: a
 setting whose data file exists is not run again (--force runs it), and `pilelab run` keeps the
-members already poured. studies/speed_accuracy/tables.py needs only the data files.
+members already poured. Across machines: after stopping a run, `run.py --save` keeps the piles
+of the settings begun but not measured in docs/studies/speed_accuracy/in_progress/<name>
+(commit it), from where the next run restores them. studies/speed_accuracy/tables.py needs
+only the data files.
 """
 import argparse
 import json
@@ -27,10 +30,16 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, "studies", "paper"))
 import settings as study  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import study_members  # noqa: E402  (save and restore of an ensemble's piles)
 import stages  # noqa: E402  (the scene rewriting of the paper study)
 import tables as paper  # noqa: E402  (its ensemble statistics)
 
 DATA = os.path.join(ROOT, "docs", "studies", "speed_accuracy", "data")
+# The piles of settings begun but not measured, kept across machines (scripts/study_members.py:
+# poured piles archived, unfinished ones as checkpoints); a setting's folder goes once its data
+# file is written.
+IN_PROGRESS = os.path.join(ROOT, "docs", "studies", "speed_accuracy", "in_progress")
 
 
 def scene_for(overrides, base_text):
@@ -59,6 +68,9 @@ def run_setting(name, overrides, out, args, members_from=None):
         target = os.path.join(directory, "members")
         if not os.path.isdir(target):
             shutil.copytree(os.path.join(members_from, "members"), target)
+    elif os.path.isdir(os.path.join(IN_PROGRESS, name)):  # begun on another machine
+        os.makedirs(os.path.join(directory, "members"), exist_ok=True)
+        study_members.restore(os.path.join(directory, "members"), os.path.join(IN_PROGRESS, name))
     env = dict(os.environ, OMP_WAIT_POLICY="passive")
     command = [args.pilelab, "run", scene, "-o", directory, "-P", str(args.processes), "-j", "1", "--no-figures", "-q"]
     subprocess.run(command, check=True, env=env)
@@ -136,7 +148,13 @@ def main():
     parser.add_argument("--force", action="store_true", help="run settings whose data exist again")
     parser.add_argument("--data", default=DATA, help="where the measurements go (default docs/studies/speed_accuracy/data)")
     parser.add_argument("--base", default=os.path.join(HERE, "base.toml"), help="the base scene (default base.toml)")
+    parser.add_argument("--save", action="store_true",
+                        help="keep the piles of every setting begun but not measured in docs/studies/speed_accuracy/"
+                             "in_progress (after stopping a run, before a change of machine), and stop")
     args = parser.parse_args()
+    if args.save:
+        save_in_progress(args)
+        return
     only = set(args.only.split(",")) if args.only else None
     os.makedirs(args.data, exist_ok=True)
     # The base first, then what reuses its members (the later stages' settings), then the rest.
@@ -157,6 +175,7 @@ def main():
             run_setting(source, {}, args.out, args)
         directory = run_setting(name, overrides, args.out, args, members_from)
         write_atomically(data, json.dumps(measure(name, knob, value, directory), indent=1) + "\n")
+        shutil.rmtree(os.path.join(IN_PROGRESS, name), ignore_errors=True)
     for name, knob, value, overrides in study.SKIN:  # last: each pours one pile
         if only and name not in only:
             continue
@@ -164,6 +183,21 @@ def main():
         if os.path.exists(data) and not args.force:
             continue
         skin_run(name, knob, value, overrides, args, data)
+
+
+def save_in_progress(args):
+    """Every DEM setting with piles in OUT but no data file: its piles into IN_PROGRESS; and
+    the piles kept there of settings measured since, removed."""
+    later = {s[0] for s in study.LATER}
+    if os.path.isdir(IN_PROGRESS):
+        for name in os.listdir(IN_PROGRESS):
+            if os.path.exists(os.path.join(args.data, name + ".json")):
+                shutil.rmtree(os.path.join(IN_PROGRESS, name))
+    for name, *_ in study.DEM:
+        members = os.path.join(args.out, name, "members")
+        if name in later or os.path.exists(os.path.join(args.data, name + ".json")) or not os.path.isdir(members):
+            continue
+        study_members.save(members, os.path.join(IN_PROGRESS, name))
 
 
 def skin_run(name, knob, value, overrides, args, data):

@@ -32,13 +32,19 @@ double mass_within_over_r2(Kernel kernel, double r, double w) {
   return 5.0 / (M_PI * w * w) * (0.5 + s * s * (-1.5 + s * (1.6 - 0.5 * s)));
 }
 
+// Phi's total, the kernel's whole mass over 2 pi (1 - e^-9 of 1 / 2 pi for the cut Gaussian).
+double total_mass_over_2pi(Kernel kernel, double w) {
+  const double support = kernel_support(kernel, w);
+  return support * support * mass_within_over_r2(kernel, support, w);
+}
+
 // The signed kernel mass in the triangle (point, a, b): in polar coordinates about the point,
 // int dtheta Phi(rho(theta)), or along the edge q(t) = a + t (b - a) - point,
 //   int_0^1 Phi(|q|) / |q|^2 cross(q(0), b - a) dt.
 // Where |q| exceeds the support Phi is constant and the piece is Phi_total times its angle; the
-// rest is split where the edge crosses the support's circle and into pieces shorter than the
-// kernel width, on which the integrand is smooth (Phi(r)/r^2 is analytic in r^2), and summed by
-// an 8-point Gauss-Legendre rule.
+// rest is split where the edge crosses the support's circle, at the edge's point nearest to the
+// point, and into pieces shorter than the kernel width, on which the integrand is smooth, and
+// summed by an 8-point Gauss-Legendre rule.
 double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, const Vec2& b) {
   static const double gx[8] = {0.019855071751231856, 0.10166676129318664, 0.2372337950418355,
                                0.4082826787521751,  0.5917173212478249,  0.7627662049581645,
@@ -50,8 +56,7 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
   const double c = p.x() * d.y() - p.y() * d.x();  // cross(p, d): twice the triangle's signed area
   const double dd = d.squaredNorm();
   if (dd == 0.0 || c == 0.0) return 0.0;
-  const double support = kernel_support(kernel, w);
-  const double total = 2 * M_PI * support * support * mass_within_over_r2(kernel, support, w);  // 2 pi Phi_total
+  const double support = kernel_support(kernel, w), phi_total = total_mass_over_2pi(kernel, w);
   const auto angle = [&](double t0, double t1) {  // signed angle swept from q(t0) to q(t1)
     const Vec2 q0 = p + t0 * d, q1 = p + t1 * d;
     return std::atan2(q0.x() * q1.y() - q0.y() * q1.x(), q0.dot(q1));
@@ -66,8 +71,8 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
     hi = std::clamp(t_foot + half, 0.0, 1.0);
   }
   double mass = 0.0;
-  if (lo > 0.0) mass += total / (2 * M_PI) * angle(0.0, lo);
-  if (hi < 1.0) mass += total / (2 * M_PI) * angle(std::max(hi, lo), 1.0);
+  if (lo > 0.0) mass += phi_total * angle(0.0, lo);
+  if (hi < 1.0) mass += phi_total * angle(std::max(hi, lo), 1.0);
   // The inside piece, split at the edge's point nearest to the point as well: there |q| =
   // sqrt(h^2 + |d|^2 (t - t_foot)^2) turns, and Lucy's Phi / r^2 holds |q|^3, smooth on
   // either side of that point but not across it.
@@ -108,8 +113,7 @@ double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width
   if (!near_edge) return domain.contains(point) ? 1.0 : 0.0;
   double mass = 0.0;
   for (const auto& [a, b] : domain.edges) mass += triangle_mass(kernel, width, point, a, b);
-  const double total = 2 * M_PI * support * support * mass_within_over_r2(kernel, support, width);
-  return std::clamp(mass / total, 0.0, 1.0);
+  return std::clamp(mass / (2 * M_PI * total_mass_over_2pi(kernel, width)), 0.0, 1.0);
 }
 
 KernelAverager::KernelAverager(const Packing& packing, Kernel kernel, double width, Domain domain, bool clip_volume)

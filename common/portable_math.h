@@ -164,13 +164,12 @@ inline void portable_sincos(double x, double& s, double& c) {
   const d::Wide b = d::two_sum(a.hi, -(k * d::pio2_3));
   const d::Wide r = d::two_sum(b.hi, (a.lo + b.lo) - k * d::pio2_4);
   const double sr = d::sin_kernel(r.hi, r.lo), cr = d::cos_kernel(r.hi, r.lo);
-  // k mod 4 picks the quadrant.
-  switch (static_cast<int>(static_cast<std::int64_t>(k) & 3)) {  // |k| < 2^28: exact; & 3 is k mod 4
-    case 0: s = sr, c = cr; break;
-    case 1: s = cr, c = -sr; break;
-    case 2: s = -sr, c = -cr; break;
-    default: s = -cr, c = sr; break;
-  }
+  // k mod 4 picks the quadrant: (s, c) = (sr, cr), (cr, -sr), (-sr, -cr) or (-cr, sr), read
+  // from a table rather than chosen by a branch, which the DEM's random angles would mispredict.
+  const int quadrant = static_cast<int>(static_cast<std::int64_t>(k) & 3);  // |k| < 2^28: exact; & 3 is k mod 4
+  const double turn[4] = {sr, cr, -sr, -cr};
+  s = turn[quadrant];
+  c = turn[(quadrant + 1) & 3];
 }
 
 inline double portable_sin(double x) {

@@ -4,6 +4,9 @@
 // tangential force (spring 2E/7 plus viscous term, capped by Coulomb's mu * F_n). Pure
 // functions of plain values: the caller owns the spring history.
 
+#include <algorithm>
+#include <cmath>
+
 namespace pilelab::dem {
 
 /// How the contact length l in R = E A / l is formed from the distances r_i, r_j between the
@@ -51,11 +54,51 @@ struct ContactForce {
 /// l from the lever arms (an infinite lever stands for a wall). The caller floors each lever at
 /// half the body's inner radius, so that a pathological deep overlap with the force point at a
 /// centroid cannot divide by 0.
-double contact_length(const ContactParameters& p, double lever_a, double lever_b);
+inline double contact_length(const ContactParameters& p, double lever_a, double lever_b);
 
 /// One step of the contact law. spring is the tangential spring force carried from the last
 /// step (0 for a new contact); dt advances it.
-ContactForce contact_force(const ContactParameters& p, const ContactKinematics& k, double length_l,
-                           double spring, double dt);
+inline ContactForce contact_force(const ContactParameters& p, const ContactKinematics& k, double length_l,
+                                  double spring, double dt);
+
+// Inline: the DEM evaluates both for every contact of every step.
+inline double contact_length(const ContactParameters& p, double lever_a, double lever_b) {
+  // An infinite lever (a wall) leaves the other one: r_a r_b / (r_a + r_b) -> r_b.
+  const double harmonic = std::isinf(lever_a) ? lever_b
+                          : std::isinf(lever_b) ? lever_a
+                                                : lever_a * lever_b / (lever_a + lever_b);
+  return p.contact_length == ContactLength::book ? 4.0 * harmonic : harmonic;
+}
+
+inline ContactForce contact_force(const ContactParameters& p, const ContactKinematics& k, double l,
+                                  double spring, double dt) {
+  ContactForce f{0.0, 0.0, 0.0};
+  // A.1: elastic part from the effective depth d_eff = A / l.
+  const double repulsive = p.youngs_modulus * k.area / l;
+  // A.1: damping proportional to d(d_eff)/dt = (dA/dt) / l. For rigid motions dA/dt is exactly
+  // chord * approach speed (see convex_overlap.h), which we use instead of a finite difference.
+  const double d_eff_rate = k.chord * k.approach_speed / l;
+  const double damping = p.damping_gamma * d_eff_rate * std::sqrt(p.youngs_modulus * k.normal_mass);
+  // The cut-off at -R: damping may cancel the elastic force but never make it attractive.
+  f.normal = repulsive + std::max(damping, -repulsive);
+
+  if (p.friction_mu == 0.0 || f.normal <= 0.0) return f;  // no friction, no history
+  // A.2: Cundall-Strack spring, advanced by the slip, plus a viscous term; the total is capped
+  // at mu F_n. The spring force opposes slip of a relative to b, i.e. acts along -t on a.
+  const double k_t = p.tangential_stiffness_ratio * p.youngs_modulus;
+  const double viscous = std::sqrt(k_t * k.tangential_mass) * k.slip_speed;
+  const double stretched = spring + k_t * k.slip_speed * dt;
+  const double trial = stretched + viscous;
+  const double cap = p.friction_mu * f.normal;
+  if (std::abs(trial) <= cap) {
+    f.tangential = trial;
+    f.spring = p.tangential_history == TangentialHistory::total ? trial : stretched;
+  } else {
+    // Sliding: the spring stops stretching and holds the Coulomb value.
+    f.tangential = std::copysign(cap, trial);
+    f.spring = f.tangential;
+  }
+  return f;
+}
 
 }  // namespace pilelab::dem

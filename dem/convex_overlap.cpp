@@ -307,6 +307,19 @@ struct Triangle {
   }
 };
 
+// p lies in the triangle p0 p1 p2 (counter-clockwise), farther than the margin from each edge's
+// line: Triangle::clearly_contains for a single point, each edge formed only when the one
+// before has passed (the same operations, so the same answer).
+[[gnu::always_inline]] inline bool clearly_in_triangle(const Point& p0, const Point& p1, const Point& p2, const Point& p,
+                                                       double margin2) {
+  const auto clearly_left_of = [&](const Point& e0, const Point& e1) {
+    const double dx = e1.x - e0.x, dy = e1.y - e0.y;
+    const double side = side_of(dx, dy, e0, p);
+    return side > 0.0 && side * side > margin2 * (dx * dx + dy * dy);
+  };
+  return clearly_left_of(p0, p1) && clearly_left_of(p1, p2) && clearly_left_of(p2, p0);
+}
+
 // The overlap of a two-crossing configuration from its crossings X1 (a enters b) and X2, and
 // twice its area.
 [[gnu::always_inline]] inline bool two_crossing_result(const Point& x1, const Point& x2, double a2, double margin, Overlap& o) {
@@ -346,8 +359,7 @@ struct Triangle {
   x_out = {c.x + r_out * d2x, c.y + r_out * d2y};
   // The corner must lie in q: in the triangle of the chord and q's centroid, or inside every
   // edge (tested by the caller, which has the polygon).
-  const Triangle in_q(x_out, x_in, q_centroid);
-  if (!in_q.clearly_contains(c, margin2)) return false;
+  if (!clearly_in_triangle(x_out, x_in, q_centroid, c, margin2)) return false;
   const double qx = c.x - x_in.x, qy = c.y - x_in.y, rx = x_out.x - x_in.x, ry = x_out.y - x_in.y;
   a2 = (0.0 * qy - 0.0 * qx) + (qx * ry - qy * rx);  // the shoelace about X_in, as the general case sums it
   return true;

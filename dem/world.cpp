@@ -113,7 +113,7 @@ void World::deactivate(int body) {
       const int q = body_pairs_[k] >> 1;
       if (pair_touching_[q]) --contact_count_;
       pair_touching_[q] = 0;
-      pair_load_[q] = {0.0, 0.0, 0.0, 0.0};
+      pair_load_[q] = {0.0, 0.0, {0.0, 0.0}};
     }
   restored_contacts_.erase(std::remove_if(restored_contacts_.begin(), restored_contacts_.end(),
                                           [&](const Contact& c) { return c.a == body || c.b == body; }),
@@ -429,7 +429,7 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
   pair_contact_.swap(contact);
   pair_touching_.swap(touching);
   pair_hint_.swap(hint);
-  pair_load_.assign(n, PairLoad{0.0, 0.0, 0.0, 0.0});
+  pair_load_.assign(n, PairLoad{0.0, 0.0, {0.0, 0.0}});
   contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
 }
 
@@ -460,6 +460,24 @@ void World::collide_and_compute_forces() {
   double step_deepest = 0.0;
   std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0;
 
+  // The arrays the loop reads and writes, as plain pointers: the compiler cannot tell that the
+  // stores into the pair arrays leave the vectors' own bookkeeping alone, and would reload it.
+  const std::uint64_t* const pair_keys = neighbours_.data();
+  const BodyGeometry* const geometry = geometry_.data();
+  const double* const x = motion_.d[0].data();
+  const double* const v = motion_.d[1].data();
+  const double* const inv_mass = inv_mass_.data();
+  const double* const inv_inertia = inv_inertia_.data();
+  const Vec2* const world_vertices = world_vertices_.data();
+  const int* const vertex_offset = vertex_offset_.data();
+  const Vec2* const wall_lo = wall_lo_.data();
+  const Vec2* const wall_hi = wall_hi_.data();
+  const int wall_count = wall_count_;
+  std::uint8_t* const touching_now = pair_touching_.data();
+  OverlapHint* const hints = pair_hint_.data();
+  Contact* const pair_contact = pair_contact_.data();
+  PairLoad* const pair_load = pair_load_.data();
+
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step. Dynamic chunks, since pairs that touch
   // cost more than pairs that do not and they cluster along the list.
@@ -469,16 +487,17 @@ void World::collide_and_compute_forces() {
     std::size_t deepest_pair = n;
 #pragma omp for schedule(dynamic, 512) nowait
     for (std::size_t q = 0; q < n; ++q) {
-      const bool touched = pair_touching_[q] != 0;
-      pair_touching_[q] = 0;
-      const int a = static_cast<int>(neighbours_[q] >> 32), b = static_cast<int>(neighbours_[q] & 0xffffffffu);
-      const BodyGeometry& sa = geometry_[a];
-      const BodyGeometry& sb = geometry_[b];
-      const Vec2 pa = position(a), pb = position(b);
-      pair_load_[q] = {0.0, 0.0, 0.0, 0.0};
+      const bool touched = touching_now[q] != 0;
+      touching_now[q] = 0;
+      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+      const bool a_is_wall = a < wall_count;
+      const BodyGeometry& sa = geometry[a];
+      const BodyGeometry& sb = geometry[b];
+      const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
+      pair_load[q] = {0.0, 0.0, {0.0, 0.0}};
       // The exact broad-phase test: bounding circles, or a grain's circle against a wall's box.
-      if (is_wall(a)) {
-        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo_[a], wall_hi_[a])) continue;
+      if (a_is_wall) {
+        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) continue;
       } else {
         const double r = sa.bounding_radius + sb.bounding_radius;
         if ((pb - pa).squaredNorm() >= r * r) continue;
@@ -486,20 +505,23 @@ void World::collide_and_compute_forces() {
       ++candidates;
 
       Overlap o;
+      const Vec2* const corners_a = world_vertices + vertex_offset[a];
+      const Vec2* const corners_b = world_vertices + vertex_offset[b];
+      const int count_a = vertex_offset[a + 1] - vertex_offset[a], count_b = vertex_offset[b + 1] - vertex_offset[b];
       if (!sa.is_disc && !sb.is_disc) {
-        o = overlap_polygons(corners(a), corner_count(a), pa, corners(b), corner_count(b), pb,
-                             std::max(sa.longest_edge, sb.longest_edge), pair_hint_[q]);
+        o = overlap_polygons(corners_a, count_a, pa, corners_b, count_b, pb, std::max(sa.longest_edge, sb.longest_edge),
+                             hints[q]);
       } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
       } else if (sa.is_disc) {
-        o = overlap_disc_polygon(pa, sa.radius, corners(b), corner_count(b), pb);
+        o = overlap_disc_polygon(pa, sa.radius, corners_b, count_b, pb);
       } else {
-        o = overlap_disc_polygon(pb, sb.radius, corners(a), corner_count(a), pa);
+        o = overlap_disc_polygon(pb, sb.radius, corners_a, count_a, pa);
         o.normal = -o.normal;
       }
       if (!o.touching()) continue;
 
-      Contact& ct = pair_contact_[q];
+      Contact& ct = pair_contact[q];
       const double old_spring = touched ? ct.spring : 0.0;
       const double old_nx = touched ? ct.normal.x() : 0.0, old_ny = touched ? ct.normal.y() : 0.0;
       // The kinematics at the force point, in plain doubles (the vector forms of vec2.h cost
@@ -507,9 +529,9 @@ void World::collide_and_compute_forces() {
       const double nx = o.normal.x(), ny = o.normal.y();
       const double rax = o.point.x() - pa.x(), ray = o.point.y() - pa.y();
       const double rbx = o.point.x() - pb.x(), rby = o.point.y() - pb.y();
-      const double wa = angular_velocity(a), wb = angular_velocity(b);
-      const double uax = motion_.d[1][3 * a] + -wa * ray, uay = motion_.d[1][3 * a + 1] + wa * rax;
-      const double ubx = motion_.d[1][3 * b] + -wb * rby, uby = motion_.d[1][3 * b + 1] + wb * rbx;
+      const double wa = v[3 * a + 2], wb = v[3 * b + 2];
+      const double uax = v[3 * a] + -wa * ray, uay = v[3 * a + 1] + wa * rax;
+      const double ubx = v[3 * b] + -wb * rby, uby = v[3 * b + 1] + wb * rbx;
       const double dux = uax - ubx, duy = uay - uby;
       const double ra2 = rax * rax + ray * ray, rb2 = rbx * rbx + rby * rby;
       ContactKinematics k;
@@ -518,13 +540,13 @@ void World::collide_and_compute_forces() {
       // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
       // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
       // than depending on the distance to the wall's centroid.
-      k.lever_a = is_wall(a) ? INFINITY : std::max(std::sqrt(ra2), 0.5 * sa.inner_radius);
+      k.lever_a = a_is_wall ? INFINITY : std::max(std::sqrt(ra2), 0.5 * sa.inner_radius);
       k.lever_b = std::max(std::sqrt(rb2), 0.5 * sb.inner_radius);
       k.approach_speed = nx * dux + ny * duy;
       k.slip_speed = -ny * dux + nx * duy;  // along t = perp(n)
-      const double inverse_masses = inv_mass_[a] + inv_mass_[b];
+      const double inverse_masses = inv_mass[a] + inv_mass[b];
       k.normal_mass = 1.0 / inverse_masses;
-      k.tangential_mass = 1.0 / (inverse_masses + ra2 * inv_inertia_[a] + rb2 * inv_inertia_[b]);
+      k.tangential_mass = 1.0 / (inverse_masses + ra2 * inv_inertia[a] + rb2 * inv_inertia[b]);
       const double l = contact_length(law, k.lever_a, k.lever_b);
       // The spring is a vector in the contact plane: as the normal turns, keep its projection on
       // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
@@ -542,15 +564,15 @@ void World::collide_and_compute_forces() {
       ct.tangential_force = f.tangential;
       ct.area = o.area;
       ct.chord = o.chord;
-      pair_touching_[q] = 1;
+      touching_now[q] = 1;
       // The force on b, normal_force n + tangential_force t, and its torques about both centroids.
       const double fx = f.normal * nx + f.tangential * -ny, fy = f.normal * ny + f.tangential * nx;
-      pair_load_[q] = {fx, fy, rax * fy - ray * fx, rbx * fy - rby * fx};
+      pair_load[q] = {fx, fy, {rax * fy - ray * fx, rbx * fy - rby * fx}};
       ++touching_pairs;
       // The overlap is convex and the chord joins two points of its boundary, so no point of it
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
       const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
-      const double inner = is_wall(a) ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
+      const double inner = a_is_wall ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
       const double fraction = depth / inner;
       if (fraction > deepest || (fraction == deepest && q < deepest_pair)) {
         deepest = fraction;
@@ -577,24 +599,27 @@ void World::collide_and_compute_forces() {
 // touch carry zeros, which leave a sum unchanged. Then each grain's acceleration (paper eq. 1)
 // and the corrector, and a check that the grain's state is still finite.
 void World::gather_and_correct() {
-  const auto sum_over_pairs = [this](int i) {
+  const int* const pair_start = body_pair_start_.data();
+  const int* const pairs = body_pairs_.data();
+  const PairLoad* const pair_load = pair_load_.data();
+  double* const contact_force = contact_force_.data();
+  const auto sum_over_pairs = [=](int i) {
     double fx = 0.0, fy = 0.0, torque = 0.0;
-    for (int k = body_pair_start_[i]; k < body_pair_start_[i + 1]; ++k) {
-      const int entry = body_pairs_[k];
-      const PairLoad& load = pair_load_[entry >> 1];
-      if (entry & 1) {  // the body is b: the force acts on it as stored
-        fx += load.fx;
-        fy += load.fy;
-        torque += load.torque_b;
-      } else {
-        fx -= load.fx;
-        fy -= load.fy;
-        torque -= load.torque_a;
-      }
+    for (int k = pair_start[i]; k < pair_start[i + 1]; ++k) {
+      // The body is the pair's b (the force acts on it as stored) or its a (the opposite
+      // force): x + (-1 * y) is x - y exactly, so a sign in place of a branch, which the
+      // processor could not predict (a body is a or b at random along its list).
+      const int entry = pairs[k];
+      const PairLoad& load = pair_load[entry >> 1];
+      const int is_b = entry & 1;
+      const double sign = static_cast<double>(2 * is_b - 1);
+      fx += sign * load.fx;
+      fy += sign * load.fy;
+      torque += sign * load.torque[is_b];
     }
-    contact_force_[3 * i] = fx;
-    contact_force_[3 * i + 1] = fy;
-    contact_force_[3 * i + 2] = torque;
+    contact_force[3 * i] = fx;
+    contact_force[3 * i + 1] = fy;
+    contact_force[3 * i + 2] = torque;
   };
   const Stepper stepper(settings_.scheme, settings_.time_step);
   const int n = static_cast<int>(active_grains_.size());
@@ -607,10 +632,11 @@ void World::gather_and_correct() {
     const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
                              contact_force_[3 * i + 2] * inv_inertia_[i]};
     stepper.correct(motion_, i, accel);
-    bool finite = true;
-    for (int c = 0; c < 3; ++c)
-      finite = finite && std::isfinite(motion_.d[0][3 * i + c]) && std::isfinite(motion_.d[1][3 * i + c]);
-    if (!finite && k < first_unstable) first_unstable = k;
+    // Any NaN or infinity makes the sum NaN or infinite (as in first_non_finite_grain).
+    const double* d0 = &motion_.d[0][3 * i];
+    const double* d1 = &motion_.d[1][3 * i];
+    const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
+    if (!std::isfinite(sum) && k < first_unstable) first_unstable = k;
   }
   for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);
   if (first_unstable == n) return;

@@ -202,7 +202,8 @@ class World {
   // The force on b and the torques about both centroids, zero where the pair does not touch:
   // what the gather reads, packed.
   struct PairLoad {
-    double fx, fy, torque_a, torque_b;
+    double fx, fy;
+    double torque[2];  ///< about a's centroid, about b's
   };
   std::vector<PairLoad> pair_load_;
   // Each body's listed pairs in key order: body_pairs_ from body_pair_start_[i] to

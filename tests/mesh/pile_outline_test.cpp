@@ -91,7 +91,9 @@ TEST(SmoothedOutline, KeepsStraightFlanksAndAreaAndRoundsTheApexAsTheoryGives) {
   for (const Vec2& p : s.surface) {
     top = std::max(top, p.y());
     const double x = std::abs(p.x());
-    if (x > w / 2 && x < H / t - w / 2) EXPECT_NEAR(p.y(), H - t * x, 1e-14) << "x = " << p.x();
+    if (x > w / 2 && x < H / t - w / 2) {
+      EXPECT_NEAR(p.y(), H - t * x, 1e-14) << "x = " << p.x();
+    }
   }
   EXPECT_NEAR(area, H * H / t, 4 * t * spacing * spacing / 12);
   // The sampled peak is the smoothed apex, or a sample at most half a spacing from it on the

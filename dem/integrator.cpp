@@ -47,49 +47,6 @@ Stepper::Stepper(Scheme s, double dt) : scheme_(s), dt_(dt) {
   force_velocity_lead_ = s == Scheme::verlet ? dt : 0.5 * dt;
 }
 
-void Stepper::predict(MotionState& m, int i) const {
-  auto& d = m.d;
-  if (scheme_ == Scheme::gear5) {
-    const double h = taylor_[0], h2 = taylor_[1], h3 = taylor_[2], h4 = taylor_[3], h5 = taylor_[4];
-    for (int c = 3 * i; c < 3 * i + 3; ++c) {
-      // Taylor series of every derivative to t + dt (the Pascal-triangle predictor).
-      d[0][c] += h * d[1][c] + h2 * d[2][c] + h3 * d[3][c] + h4 * d[4][c] + h5 * d[5][c];
-      d[1][c] += h * d[2][c] + h2 * d[3][c] + h3 * d[4][c] + h4 * d[5][c];
-      d[2][c] += h * d[3][c] + h2 * d[4][c] + h3 * d[5][c];
-      d[3][c] += h * d[4][c] + h2 * d[5][c];
-      d[4][c] += h * d[5][c];
-    }
-  } else {
-    for (int c = 3 * i; c < 3 * i + 3; ++c) {
-      m.half_velocity[c] = d[1][c] + 0.5 * dt_ * d[2][c];
-      d[0][c] += dt_ * m.half_velocity[c];
-      d[1][c] += force_velocity_lead_ * d[2][c];
-    }
-  }
-}
-
-void Stepper::correct(MotionState& m, int i, const double* accel) const {
-  auto& d = m.d;
-  if (scheme_ == Scheme::gear5) {
-    for (int c = 0; c < 3; ++c) {
-      const int q = 3 * i + c;
-      const double delta = accel[c] - d[2][q];
-      d[0][q] += gain_[0] * delta;
-      d[1][q] += gain_[1] * delta;
-      d[2][q] = accel[c];
-      d[3][q] += gain_[3] * delta;
-      d[4][q] += gain_[4] * delta;
-      d[5][q] += gain_[5] * delta;
-    }
-  } else {
-    for (int c = 0; c < 3; ++c) {
-      const int q = 3 * i + c;
-      d[2][q] = accel[c];
-      d[1][q] = m.half_velocity[q] + 0.5 * dt_ * accel[c];
-    }
-  }
-}
-
 void predict(Scheme s, MotionState& m, const std::vector<int>& bodies, double dt) {
   const Stepper stepper(s, dt);
   for (int i : bodies) stepper.predict(m, i);

@@ -58,6 +58,7 @@ class Ensemble:
         self.xr = np.where(x < 0, x / left, x / right)  # x' in [-1, 1]
         self.yh = self.points[:, 1] / self.h
         self.R = 0.5 * (left + right)
+        self.half_widths = (left, right)
 
     # Regions of the pile (masks over the points).
     def core(self):
@@ -77,6 +78,12 @@ class Ensemble:
         depth = (1 - np.abs(self.xr) - self.yh) * self.h  # vertical, below the wedge's flank
         r = float(self.attrs["rve_radius_m"])
         return (depth > r) & (depth < 2 * r) & (np.abs(self.xr) > 0.15)
+
+    def depth_below_flank(self, x, y_over_h):
+        """Vertical depth [m] below the wedge's flank of points at x [m] and height y / h."""
+        x = np.asarray(x, dtype=float) - self.apex
+        xr = np.where(x < 0, x / self.half_widths[0], x / self.half_widths[1])
+        return (1 - np.abs(xr) - y_over_h) * self.h
 
     def interior(self):
         """At least one RVE radius below the wedge's flank (see outer_layer)."""
@@ -561,6 +568,12 @@ def cut_figures(plt, e, prof, smooth_prof, panels, outdir, what, written):
                 d = prof.get(("dem", q, y))
                 if d is None or len(d) == 0:
                     continue
+                if q == "volume_fraction":
+                    # Within an RVE radius of the mean wedge's flank, a member's own surface lies
+                    # above or below it, and grain area over RVE area is no volume fraction.
+                    d = d[e.depth_below_flank(d[:, 0], y) > float(e.attrs["rve_radius_m"])]
+                    if len(d) == 0:
+                        continue
                 ax.plot(d[:, 0], d[:, 1], color=colour, label=f"DEM y = {y:g} h")
                 ax.fill_between(d[:, 0], d[:, 1] - d[:, 2], d[:, 1] + d[:, 2], color=colour, alpha=0.25, lw=0)
                 for model, style, table in models:
@@ -568,8 +581,8 @@ def cut_figures(plt, e, prof, smooth_prof, panels, outdir, what, written):
                     if m is not None and len(m) and y in (heights[0], heights[len(heights) // 2]):
                         base = "" if model != "elastic" else (" smooth" if table is smooth_prof else " rough")
                         ax.plot(m[:, 0], m[:, 1], style, color=colour, lw=1.2, label=f"{model}{base} y = {y:g} h")
-            if q == "volume_fraction":  # the surface RVEs of a mean wedge are no volume fraction
-                ax.set_ylim(0.6, 0.95)
+            if q == "volume_fraction":
+                ax.set_title("points deeper than one RVE radius below the flank", fontsize=8)
             ax.set_xlabel("x (m)")
             ax.set_ylabel(label)
         axes[0][0].legend(fontsize=6, ncol=2)

@@ -251,6 +251,18 @@ class Rows(list):
             self.append((f"sigma_yy under {under} over its maximum, y = {y:g} h", "< 1 (a dip) up to some height" if y else "< 1 (the dip)",
                          fmt(v[0], s[0], 3), "dip (beyond 2 SE)" if v[0] < 1 - 2 * s[0] else "no dip resolved"))
 
+    def base_plateau(self, heights, under="the axis"):
+        """The dip by region means instead of single bins: sigma_yy over |x'| < 0.1 over its mean
+        over 0.15 < |x'| < 0.35 (about where the paper's maxima are), minus 1. Twelve bins on
+        each side of the ratio, so far less noise than the centre bin over the highest bin,
+        which noise also biases. A pressure proportional to the height above the base point,
+        (1 - |x'|), gives +0.27; a flat top 0; a dip less than 0."""
+        for y in heights:
+            self.add(f"sigma_yy under {under}, |x'| < 0.1, over its mean at 0.15 < |x'| < 0.35, minus 1, y = {y:g} h",
+                     "< 0 (the dip; pressure proportional to height: +0.27)", centre_over_ring(y),
+                     lambda v, s: ("dip (beyond 2 SE)" if v < -2 * s else "flat top within 2 SE, no dip" if v <= 2 * s
+                                   else "centre higher: no dip"), 3)
+
     def coordination(self):
         e = self.e
         self.add_many("coordination number: core / flanks", "not given",
@@ -272,6 +284,15 @@ def centre_over_max(y):
         x, p = F.profile(-F["stress_yy"], y)
         with _quiet():
             return np.nanmean(p[np.abs(x) < 0.05]) / np.nanmax(p[np.abs(x) < 0.8])
+    return f
+
+
+def centre_over_ring(y):
+    def f(F):
+        x, p = F.profile(-F["stress_yy"], y)
+        ring = (np.abs(x) > 0.15) & (np.abs(x) < 0.35)
+        with _quiet():
+            return np.nanmean(p[np.abs(x) < 0.1]) / np.nanmean(p[ring]) - 1
     return f
 
 
@@ -342,6 +363,7 @@ def symmetric_rows(e):
 
     # Stress (Fig. 9).
     r.base_dips((0.0, 0.1, 0.2, 0.3, 0.5))
+    r.base_plateau((0.0, 0.1))
     r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (Fig. 9A: about -0.3 / +0.3)",
                lambda F: (x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=-1)(F),
                           x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=1)(F)),
@@ -433,6 +455,7 @@ def asymmetric_rows(e):
     r = Rows(e)
     r.repose({"left": 28.0, "right": 21.0}, {"left": "28", "right": "21", "pile_mean": "24.5 (mean of 28 and 21)"})
     r.base_dips((0.0, 0.1, 0.2, 0.3), under="the apex")
+    r.base_plateau((0.0, 0.1), under="the apex")
     r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (asymmetric, Fig. 11)",
                lambda F: (x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=-1)(F), x_of_extreme(lambda G: -G["stress_yy"], 0.0, side=1)(F)),
                lambda v, s: "-", 2, resolution=BIN)

@@ -51,17 +51,11 @@ struct ContactForce {
   double spring;      ///< the spring force to keep for the next step [N]
 };
 
+// Both inline: the DEM evaluates them for every contact of every step.
+
 /// l from the lever arms (an infinite lever stands for a wall). The caller floors each lever at
 /// half the body's inner radius, so that a pathological deep overlap with the force point at a
 /// centroid cannot divide by 0.
-inline double contact_length(const ContactParameters& p, double lever_a, double lever_b);
-
-/// One step of the contact law. spring is the tangential spring force carried from the last
-/// step (0 for a new contact); dt advances it.
-inline ContactForce contact_force(const ContactParameters& p, const ContactKinematics& k, double length_l,
-                                  double spring, double dt);
-
-// Inline: the DEM evaluates both for every contact of every step.
 inline double contact_length(const ContactParameters& p, double lever_a, double lever_b) {
   // An infinite lever (a wall) leaves the other one: r_a r_b / (r_a + r_b) -> r_b.
   const double harmonic = std::isinf(lever_a) ? lever_b
@@ -70,6 +64,8 @@ inline double contact_length(const ContactParameters& p, double lever_a, double 
   return p.contact_length == ContactLength::book ? 4.0 * harmonic : harmonic;
 }
 
+/// One step of the contact law. spring is the tangential spring force carried from the last
+/// step (0 for a new contact); dt advances it.
 inline ContactForce contact_force(const ContactParameters& p, const ContactKinematics& k, double l,
                                   double spring, double dt) {
   ContactForce f{0.0, 0.0, 0.0};

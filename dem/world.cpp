@@ -473,7 +473,7 @@ void World::collide_and_compute_forces() {
   const Vec2* const wall_lo = wall_lo_.data();
   const Vec2* const wall_hi = wall_hi_.data();
   const int wall_count = wall_count_;
-  std::uint8_t* const touching_now = pair_touching_.data();
+  std::uint8_t* const pair_touching = pair_touching_.data();
   OverlapHint* const hints = pair_hint_.data();
   Contact* const pair_contact = pair_contact_.data();
   PairLoad* const pair_load = pair_load_.data();
@@ -487,8 +487,8 @@ void World::collide_and_compute_forces() {
     std::size_t deepest_pair = n;
 #pragma omp for schedule(dynamic, 512) nowait
     for (std::size_t q = 0; q < n; ++q) {
-      const bool touched = touching_now[q] != 0;
-      touching_now[q] = 0;
+      const bool touched = pair_touching[q] != 0;
+      pair_touching[q] = 0;
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const bool a_is_wall = a < wall_count;
       const BodyGeometry& sa = geometry[a];
@@ -564,7 +564,7 @@ void World::collide_and_compute_forces() {
       ct.tangential_force = f.tangential;
       ct.area = o.area;
       ct.chord = o.chord;
-      touching_now[q] = 1;
+      pair_touching[q] = 1;
       // The force on b, normal_force n + tangential_force t, and its torques about both centroids.
       const double fx = f.normal * nx + f.tangential * -ny, fy = f.normal * ny + f.tangential * nx;
       pair_load[q] = {fx, fy, {rax * fy - ray * fx, rbx * fy - rby * fx}};

@@ -602,7 +602,7 @@ void World::gather_and_correct() {
   const int* const pair_start = body_pair_start_.data();
   const int* const pairs = body_pairs_.data();
   const PairLoad* const pair_load = pair_load_.data();
-  double* const contact_force = contact_force_.data();
+  double* const force_sum = contact_force_.data();
   const auto sum_over_pairs = [=](int i) {
     double fx = 0.0, fy = 0.0, torque = 0.0;
     for (int k = pair_start[i]; k < pair_start[i + 1]; ++k) {
@@ -617,9 +617,9 @@ void World::gather_and_correct() {
       fy += sign * load.fy;
       torque += sign * load.torque[is_b];
     }
-    contact_force[3 * i] = fx;
-    contact_force[3 * i + 1] = fy;
-    contact_force[3 * i + 2] = torque;
+    force_sum[3 * i] = fx;
+    force_sum[3 * i + 1] = fy;
+    force_sum[3 * i + 2] = torque;
   };
   const Stepper stepper(settings_.scheme, settings_.time_step);
   const int n = static_cast<int>(active_grains_.size());
@@ -632,7 +632,8 @@ void World::gather_and_correct() {
     const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
                              contact_force_[3 * i + 2] * inv_inertia_[i]};
     stepper.correct(motion_, i, accel);
-    // Any NaN or infinity makes the sum NaN or infinite (as in first_non_finite_grain).
+    // Any NaN or infinity makes the sum NaN or infinite (as in first_non_finite_grain); a finite
+    // state whose sum overflows (values near 1e308) is reported too, which is no loss.
     const double* d0 = &motion_.d[0][3 * i];
     const double* d1 = &motion_.d[1][3 * i];
     const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
@@ -653,7 +654,7 @@ int World::first_non_finite_grain() const {
   for (int i : active_grains_) {
     const double* d0 = &motion_.d[0][3 * i];
     const double* d1 = &motion_.d[1][3 * i];
-    // Any NaN or infinity makes the sum NaN or infinite (0 * inf is NaN).
+    // Any NaN or infinity makes the sum NaN or infinite (inf + -inf is NaN).
     const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
     if (!std::isfinite(sum) && (first < 0 || i < first)) first = i;
   }

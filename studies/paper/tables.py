@@ -253,13 +253,15 @@ class Rows(list):
 
     def base_plateau(self, heights, under="the axis"):
         """The dip by region means instead of single bins: sigma_yy over |x'| < 0.1 over its mean
-        over 0.15 < |x'| < 0.35 (about where the paper's maxima are), minus 1. Twelve bins on
-        each side of the ratio, so far less noise than the centre bin over the highest bin,
-        which noise also biases. A pressure proportional to the height above the base point,
-        (1 - |x'|), gives +0.27; a flat top 0; a dip less than 0."""
+        over 0.15 < |x'| < 0.35 (about where the paper's maxima are), minus 1: four bins over
+        eight, so far less noise than the centre bin over the highest bin, which noise also
+        biases. A pressure proportional to the height of the pile above the point, (1 - |x'| -
+        y/h) h, gives (0.95 - y/h) / (0.75 - y/h) - 1 (+0.27 at the base); a flat top 0; a dip
+        less than 0."""
         for y in heights:
+            column = (0.95 - y) / (0.75 - y) - 1
             self.add(f"sigma_yy under {under}, |x'| < 0.1, over its mean at 0.15 < |x'| < 0.35, minus 1, y = {y:g} h",
-                     "< 0 (the dip; pressure proportional to height: +0.27)", centre_over_ring(y),
+                     f"< 0 (the dip; pressure proportional to height: +{column:.2f})", centre_over_ring(y),
                      lambda v, s: ("dip (beyond 2 SE)" if v < -2 * s else "flat top within 2 SE, no dip" if v <= 2 * s
                                    else "centre higher: no dip"), 3)
 

@@ -209,7 +209,7 @@ def pareto(results, path):
     later_names = {s[0] for s in study.LATER}
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
     knobs = sorted({d["knob"] for d in results.values() if "members" in d})
-    colours = {k: plt.get_cmap("tab10")(i % 10) for i, k in enumerate(knobs)}
+    colours = {k: plt.get_cmap("tab20")(i % 20) for i, k in enumerate(knobs)}  # 12 knobs: tab10 would repeat
     panels = ((axes[0], False, "profile", "base sigma_yy: relative L2 against the reference",
                "DEM cost per pile (core-seconds, one core each)"),
               (axes[1], False, "repose_angle_pile_mean_deg", "|Δ repose angle| (deg)",

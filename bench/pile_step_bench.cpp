@@ -113,11 +113,12 @@ void BM_PileStep(benchmark::State& state) {
   const Scheme scheme = static_cast<Scheme>(state.range(0));
   World w = prepared_pile(scheme);
   const StepProfile before = w.profile();
-  std::size_t contacts = 0, candidates = 0;
+  std::size_t contacts = 0, candidates = 0, proven_apart = 0;
   for (auto _ : state) {
     w.step();
     contacts += w.contact_count();
     candidates += w.candidate_count();
+    proven_apart += w.proven_apart_count();
   }
   const double grains = double(w.active_grains().size());
   state.counters["grains"] = grains;
@@ -128,6 +129,7 @@ void BM_PileStep(benchmark::State& state) {
   state.counters["contacts_per_s"] = benchmark::Counter(double(contacts), benchmark::Counter::kIsRate);
   state.counters["contacts_per_grain"] = double(contacts) / (grains * double(state.iterations()));
   state.counters["candidates_per_grain"] = double(candidates) / (grains * double(state.iterations()));
+  state.counters["proven_apart_per_grain"] = double(proven_apart) / (grains * double(state.iterations()));
   set_phase_shares(state, before, w.profile());
   state.SetLabel(scheme_name(scheme));
 }
@@ -148,13 +150,14 @@ void BM_PourStep(benchmark::State& state) {
   World& w = protocol.world();
   const StepProfile before = w.profile();
   double grain_steps = 0.0;
-  std::size_t contacts = 0, candidates = 0, listed = 0;
+  std::size_t contacts = 0, candidates = 0, listed = 0, proven_apart = 0;
   const std::int64_t builds_before = w.neighbour_builds();
   for (auto _ : state) {
     protocol.step();
     grain_steps += double(w.active_grains().size());
     contacts += w.contact_count();
     candidates += w.candidate_count();
+    proven_apart += w.proven_apart_count();
     listed += w.neighbour_count();
   }
   state.counters["listed_pairs_per_grain"] = double(listed) / grain_steps;
@@ -165,6 +168,7 @@ void BM_PourStep(benchmark::State& state) {
   state.counters["particle_steps_per_s"] = benchmark::Counter(grain_steps, benchmark::Counter::kIsRate);
   state.counters["contacts_per_grain"] = double(contacts) / grain_steps;
   state.counters["candidates_per_grain"] = double(candidates) / grain_steps;
+  state.counters["proven_apart_per_grain"] = double(proven_apart) / grain_steps;
   set_phase_shares(state, before, w.profile());
   state.SetLabel(scheme_name(protocol.scene().scheme));
 }

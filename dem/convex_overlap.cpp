@@ -443,14 +443,19 @@ struct Triangle {
   return general_two_crossing(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin, o);
 }
 
-// A corner set lies clearly outside the edge's line: the edge separates the two shapes.
-bool separates(const Vec2* p, int np, int e, const Vec2* q, int nq, double margin2) {
-  if (e >= np) return false;
+// If q's corners all lie clearly outside the line of p's edge e, the edge separates the two
+// shapes: then how far q lies beyond the line [m] (positive), else 0.
+double separation_beyond_edge(const Vec2* p, int np, int e, const Vec2* q, int nq, double margin2) {
+  if (e >= np) return 0.0;
   const Vec2 d = p[next_index(e, np)] - p[e];
   const double d2 = d.squaredNorm();
-  for (int m = 0; m < nq; ++m)
-    if (!clearly_right(side_of(d, p[e], q[m]), d2, margin2)) return false;
-  return true;
+  double nearest = INFINITY;  // |d| times the nearest corner's distance beyond the line
+  for (int m = 0; m < nq; ++m) {
+    const double side = side_of(d, p[e], q[m]);
+    if (!clearly_right(side, d2, margin2)) return 0.0;
+    nearest = std::min(nearest, -side);
+  }
+  return nearest / std::sqrt(d2);
 }
 
 enum class Search { separated, found, other };
@@ -459,7 +464,7 @@ enum class Search { separated, found, other };
 // the shapes: the sides of a's corners against each of b's edges show where a's boundary
 // crosses that edge's line, and the sides of that edge's ends against a's crossing edge show
 // whether it crosses within the edge.
-Search find_edges(const Vec2* a, int na, const Vec2* b, int nb, double margin2, OverlapHint& hint) {
+Search find_edges(const Vec2* a, int na, const Vec2* b, int nb, double margin2, OverlapHint& hint, double& gap) {
   int entering = 0, leaving = 0;
   double side[max_polygon_corners];
   for (int k = 0; k < nb; ++k) {
@@ -474,6 +479,9 @@ Search find_edges(const Vec2* a, int na, const Vec2* b, int nb, double margin2, 
     if (all_out) {
       hint.kind = OverlapHint::separated_by_b;
       hint.edge[0] = static_cast<std::uint8_t>(k);
+      double nearest = INFINITY;
+      for (int i = 0; i < na; ++i) nearest = std::min(nearest, -side[i]);
+      gap = nearest / std::sqrt(db2);
       return Search::separated;
     }
     for (int i = 0; i < na; ++i) {
@@ -500,12 +508,14 @@ Search find_edges(const Vec2* a, int na, const Vec2* b, int nb, double margin2, 
   }
   if (entering == 0 && leaving == 0) {
     // No crossing: disjoint (then some edge separates, and it is not one of b's) or nested.
-    for (int e = 0; e < na; ++e)
-      if (separates(a, na, e, b, nb, margin2)) {
+    for (int e = 0; e < na; ++e) {
+      gap = separation_beyond_edge(a, na, e, b, nb, margin2);
+      if (gap > 0.0) {
         hint.kind = OverlapHint::separated_by_a;
         hint.edge[0] = static_cast<std::uint8_t>(e);
         return Search::separated;
       }
+    }
   }
   return Search::other;
 }
@@ -527,14 +537,16 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
 }
 
 namespace {
-// The projections of the two shapes on the line of centres do not meet.
-inline bool separated_along_centres(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
-                                    const Vec2& centroid_b) {
+// If the projections of the two shapes on the line of centres do not meet, how far apart they
+// lie [m] (positive), else 0.
+inline double separation_along_centres(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                       const Vec2& centroid_b) {
   const double ax = centroid_b.x() - centroid_a.x(), ay = centroid_b.y() - centroid_a.y();
   double max_a = -INFINITY, min_b = INFINITY;
   for (int i = 0; i < na; ++i) max_a = std::max(max_a, ax * a[i].x() + ay * a[i].y());
   for (int k = 0; k < nb; ++k) min_b = std::min(min_b, ax * b[k].x() + ay * b[k].y());
-  return max_a < min_b;
+  if (!(max_a < min_b)) return 0.0;
+  return (min_b - max_a) / std::sqrt(ax * ax + ay * ay);
 }
 
 // Everything but the hint's answer: the line of centres, a search for the crossing edges or a
@@ -544,11 +556,14 @@ inline bool separated_along_centres(const Vec2* a, int na, const Vec2& centroid_
   const double margin = clear_margin * longest_edge, margin2 = margin * margin;
   Overlap o;
   // The line of centres separates most of the pairs that do not touch.
-  if (hint.kind != OverlapHint::separated_along_centres && separated_along_centres(a, na, centroid_a, b, nb, centroid_b)) {
-    hint.kind = OverlapHint::separated_along_centres;
-    return o;
+  if (hint.kind != OverlapHint::separated_along_centres) {
+    o.gap = separation_along_centres(a, na, centroid_a, b, nb, centroid_b);
+    if (o.gap > 0.0) {
+      hint.kind = OverlapHint::separated_along_centres;
+      return o;
+    }
   }
-  switch (find_edges(a, na, b, nb, margin2, hint)) {
+  switch (find_edges(a, na, b, nb, margin2, hint, o.gap)) {
     case Search::separated: return o;
     case Search::found:
       if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
@@ -556,6 +571,7 @@ inline bool separated_along_centres(const Vec2* a, int na, const Vec2& centroid_
     case Search::other: break;
   }
   hint.kind = OverlapHint::none;
+  o.gap = 0.0;
   return clipped_overlap(a, na, centroid_a, b, nb, centroid_b, longest_edge);
 }
 }  // namespace
@@ -570,13 +586,16 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
       if (two_crossing_overlap(a, na, centroid_a, b, nb, centroid_b, hint.edge, margin, o)) return o;
       break;
     case OverlapHint::separated_by_a:
-      if (separates(a, na, hint.edge[0], b, nb, margin * margin)) return o;
+      o.gap = separation_beyond_edge(a, na, hint.edge[0], b, nb, margin * margin);
+      if (o.gap > 0.0) return o;
       break;
     case OverlapHint::separated_by_b:
-      if (separates(b, nb, hint.edge[0], a, na, margin * margin)) return o;
+      o.gap = separation_beyond_edge(b, nb, hint.edge[0], a, na, margin * margin);
+      if (o.gap > 0.0) return o;
       break;
     case OverlapHint::separated_along_centres:
-      if (separated_along_centres(a, na, centroid_a, b, nb, centroid_b)) return o;
+      o.gap = separation_along_centres(a, na, centroid_a, b, nb, centroid_b);
+      if (o.gap > 0.0) return o;
       break;
     default: break;
   }

@@ -127,6 +127,7 @@ void World::restore_contacts(std::vector<Contact> contacts) {
   pair_contact_.clear();
   pair_touching_.clear();
   pair_hint_.clear();
+  pair_apart_until_.clear();
   pair_load_.clear();
   body_pair_start_.clear();
   body_pairs_.clear();
@@ -219,12 +220,17 @@ bool World::move_grains() {
     if (listed) {
       const double moved2 = (position(i) - listed_position_[i]).squaredNorm();
       outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
+      displacement_[i] = std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(angle(i) - listed_angle_[i]);
     }
   }
   for (int w : moving_walls_) {  // prescribed motion: x += v dt
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
     place_body(w);
-    if (listed) outdated = outdated || (position(w) - listed_position_[w]).squaredNorm() > listed_margin_[w] * listed_margin_[w];
+    if (listed) {
+      const double moved2 = (position(w) - listed_position_[w]).squaredNorm();
+      outdated = outdated || moved2 > listed_margin_[w] * listed_margin_[w];
+      displacement_[w] = std::sqrt(moved2);  // walls do not turn
+    }
   }
   return outdated;
 }
@@ -276,8 +282,11 @@ void World::build_neighbour_list() {
   const double lookahead = settings_.neighbour_lookahead_steps * settings_.time_step;
   listed_position_.resize(body_count());
   listed_margin_.resize(body_count());
+  listed_angle_.resize(body_count());
+  displacement_.assign(body_count(), 0.0);
   for (int i = 0; i < body_count(); ++i) {
     listed_position_[i] = position(i);
+    listed_angle_[i] = angle(i);
     listed_margin_[i] = is_wall(i) && velocity(i).squaredNorm() == 0.0 ? 0.0 : rest_margin + velocity(i).norm() * lookahead;
   }
 
@@ -429,6 +438,7 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
   pair_contact_.swap(contact);
   pair_touching_.swap(touching);
   pair_hint_.swap(hint);
+  pair_apart_until_.assign(n, 0.0);  // the proofs count from the last build's places
   pair_load_.assign(n, PairLoad{0.0, 0.0, {0.0, 0.0}});
   contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
 }
@@ -458,7 +468,7 @@ void World::collide_and_compute_forces() {
   // The deepest overlap of this step: each thread's deepest, the smaller pair index breaking
   // ties, so the record is the same whatever the threads and the order they take the pairs in.
   double step_deepest = 0.0;
-  std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0;
+  std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0, proven_apart = 0;
 
   // The arrays the loop reads and writes, as plain pointers: the compiler cannot tell that the
   // stores into the pair arrays leave the vectors' own bookkeeping alone, and would reload it.
@@ -475,13 +485,16 @@ void World::collide_and_compute_forces() {
   const int wall_count = wall_count_;
   std::uint8_t* const pair_touching = pair_touching_.data();
   OverlapHint* const hints = pair_hint_.data();
+  double* const apart_until = pair_apart_until_.data();
+  const double* const displacement = displacement_.data();
+  const bool skip_separated = settings_.skip_separated_pairs;
   Contact* const pair_contact = pair_contact_.data();
   PairLoad* const pair_load = pair_load_.data();
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step. Dynamic chunks, since pairs that touch
   // cost more than pairs that do not and they cluster along the list.
-#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs)
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs, proven_apart)
   {
     double deepest = 0.0;
     std::size_t deepest_pair = n;
@@ -509,8 +522,25 @@ void World::collide_and_compute_forces() {
       const Vec2* const corners_b = world_vertices + vertex_offset[b];
       const int count_a = vertex_offset[a + 1] - vertex_offset[a], count_b = vertex_offset[b + 1] - vertex_offset[b];
       if (!sa.is_disc && !sb.is_disc) {
-        o = overlap_polygons(corners_a, count_a, pa, corners_b, count_b, pb, std::max(sa.longest_edge, sb.longest_edge),
-                             hints[q]);
+        // A pair proven apart stays apart until its corners have moved as far as the gap was.
+        // Between two steps they moved at most the sum of their displacements from the list's
+        // build at both.
+        const double moved = displacement[a] + displacement[b];
+        if (moved < apart_until[q]) {
+          ++proven_apart;
+          continue;
+        }
+        const double longest_edge = std::max(sa.longest_edge, sb.longest_edge);
+        o = overlap_polygons(corners_a, count_a, pa, corners_b, count_b, pb, longest_edge, hints[q]);
+        if (!o.touching() && skip_separated) {
+          // The gap must stay above certain_separation, plus the round-off of the corners'
+          // coordinates (a few ulp of their size, here bounded far above).
+          const double size = std::abs(pa.x()) + std::abs(pa.y()) + std::abs(pb.x()) + std::abs(pb.y()) +
+                              sa.bounding_radius + sb.bounding_radius;
+          const double spare = o.gap - (certain_separation * longest_edge + 1e-12 * size);
+          apart_until[q] = spare > moved ? spare - moved : 0.0;
+          continue;
+        }
       } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
       } else if (sa.is_disc) {
@@ -586,6 +616,7 @@ void World::collide_and_compute_forces() {
     }
   }
   candidate_count_ = candidates;
+  proven_apart_count_ = proven_apart;
   contact_count_ = touching_pairs;
   contacts_current_ = false;
   if (step_deepest > deepest_overlap_.fraction) {

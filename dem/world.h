@@ -72,6 +72,11 @@ struct WorldSettings {
   /// last build), so that fast grains do not force a new list every few steps. Only a matter
   /// of speed, like the skin.
   double neighbour_lookahead_steps = 100.0;
+  /// Skip the narrow phase of a polygon pair while it is proven apart: once a separating axis
+  /// shows a gap, the pair cannot touch until its two grains have together moved that far
+  /// (less convex_overlap.h's certain_separation). Only a matter of speed: the results are the
+  /// same bit for bit (tests/dem/world_test.cpp pours a pile both ways).
+  bool skip_separated_pairs = true;
 };
 
 class World {
@@ -127,6 +132,8 @@ class World {
   const StepProfile& profile() const { return profile_; }
   /// Candidate pairs examined in the last step (broad-phase output: bounding shapes overlap).
   std::size_t candidate_count() const { return candidate_count_; }
+  /// Of those, the polygon pairs proven apart and so skipped (WorldSettings::skip_separated_pairs).
+  std::size_t proven_apart_count() const { return proven_apart_count_; }
   /// Pairs on the Verlet list, and how many times it has been built.
   std::size_t neighbour_count() const { return neighbours_.size(); }
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
@@ -187,11 +194,16 @@ class World {
   std::vector<int> vertex_offset_{0};
   std::vector<Vec2> body_vertices_, world_vertices_;  // every polygon's corners, in its frame and placed
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
+
   // Verlet list: pairs within reach at the last build, where every body was then, and how far
   // each may move before the list must be built again.
   std::vector<std::uint64_t> neighbours_;  // sorted pair keys
   std::vector<Vec2> listed_position_;      // per body
   std::vector<double> listed_margin_;      // per body [m]
+  std::vector<double> listed_angle_;       // per body [rad]
+  // How far any corner of each body lies from where it was at the list's build, at most [m]:
+  // |x - listed x| + bounding radius |angle - listed angle| (an arc is longer than its chord).
+  std::vector<double> displacement_;
   bool neighbours_stale_ = true;
   std::int64_t neighbour_builds_ = 0;
   // Beside each listed pair: its contact at the last step (valid where touching) and the
@@ -199,6 +211,9 @@ class World {
   std::vector<Contact> pair_contact_;
   std::vector<std::uint8_t> pair_touching_;
   std::vector<OverlapHint> pair_hint_;
+  // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
+  // [m]; 0: not proven. Valid until the list is built again.
+  std::vector<double> pair_apart_until_;
   // The force on b and the torques about both centroids, zero where the pair does not touch:
   // what the gather reads, packed.
   struct PairLoad {
@@ -211,7 +226,7 @@ class World {
   std::vector<int> body_pair_start_, body_pairs_;
   // Contacts restored from a checkpoint, taken into the list at its next build.
   std::vector<Contact> restored_contacts_;
-  std::size_t contact_count_ = 0, candidate_count_ = 0;
+  std::size_t contact_count_ = 0, candidate_count_ = 0, proven_apart_count_ = 0;
   mutable std::vector<Contact> contacts_;  // assembled by contacts()
   mutable bool contacts_current_ = true;
   DeepestOverlap deepest_overlap_;

@@ -74,7 +74,7 @@ std::vector<Vec2> world_outline(const Grain& g) {
   std::vector<Vec2> out;
   if (!g.shape || g.shape->kind == dem::ShapeKind::disc) return out;
   double s, c;
-  portable_sincos(g.angle, s, c);
+  rotation_sincos(g.angle, s, c);
   out.reserve(g.shape->vertices.size());
   for (const Vec2& v : g.shape->vertices) out.push_back(g.centre + dem::rotate(v, c, s));
   return out;

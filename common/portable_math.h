@@ -172,6 +172,40 @@ inline void portable_sincos(double x, double& s, double& c) {
   c = turn[(quadrant + 1) & 3];
 }
 
+/// sin(x) and cos(x) of a body's angle, which places its corners: the same bits on every IEEE
+/// 754 machine, like portable_sincos, but within two ulp (plus 1e-18) rather than faithful, at
+/// less than half the cost (the DEM places every grain's corners every step). The same
+/// Cody-Waite reduction in plain doubles: x - k p1 and the products k p_i are exact, the two
+/// subtractions round (an ulp of r in all), and pi/2 is carried to 80 bits, so the part left
+/// out, k 2^-81, stays below 1e-18 for |x| < 2^20. Then the same Taylor series, without the
+/// low parts carried. Every placement of a grain's corners from its angle (the
+/// World, the VTK writer, the coarse-graining's and the mesh's outlines) uses it, so that all
+/// put a corner at the same bits. |x| >= 2^20 rad, infinities and NaN, and |x| < 2^-27 (where
+/// sin x = x keeps the sign of a zero): portable_sincos.
+inline void rotation_sincos(double x, double& s, double& c) {
+  namespace d = portable_math_detail;
+  if (!(std::abs(x) < 0x1p20) || std::abs(x) < 0x1p-27) {
+    portable_sincos(x, s, c);
+    return;
+  }
+  constexpr double round_shift = 0x1.8p52;
+  const double k = (x * d::two_over_pi + round_shift) - round_shift;
+  const double r = ((x - k * d::pio2_1) - k * d::pio2_2) - k * d::pio2_3;
+  const double z = r * r;
+  const double p = -1.0 / 6 + z * (1.0 / 120 + z * (-1.0 / 5040 + z * (1.0 / 362880 + z * (-1.0 / 39916800 +
+                   z * (1.0 / 6227020800.0 + z * (-1.0 / 1307674368000.0 + z * (1.0 / 355687428096000.0)))))));
+  const double q = 1.0 / 24 + z * (-1.0 / 720 + z * (1.0 / 40320 + z * (-1.0 / 3628800 + z * (1.0 / 479001600.0 +
+                   z * (-1.0 / 87178291200.0 + z * (1.0 / 20922789888000.0 + z * (-1.0 / 6402373705728000.0)))))));
+  const double sr = r + r * z * p;
+  // 1 - z/2 loses the low bits of z/2; (1 - w) - z/2 gets them back exactly.
+  const double half_z = 0.5 * z, w = 1.0 - half_z;
+  const double cr = w + (((1.0 - w) - half_z) + z * z * q);
+  const int quadrant = static_cast<int>(static_cast<std::int64_t>(k) & 3);
+  const double turn[4] = {sr, cr, -sr, -cr};
+  s = turn[quadrant];
+  c = turn[(quadrant + 1) & 3];
+}
+
 inline double portable_sin(double x) {
   double s, c;
   portable_sincos(x, s, c);

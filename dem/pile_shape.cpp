@@ -69,7 +69,7 @@ PileShape measure_pile(const World& world, const Snapshot& snapshot, double bin_
     const Vec2 p(snapshot.position[2 * g], snapshot.position[2 * g + 1]);
     const Shape& s = world.shape(static_cast<int>(snapshot.body[g]));
     double sn, c;
-    portable_sincos(snapshot.angle[g], sn, c);
+    rotation_sincos(snapshot.angle[g], sn, c);
     double y = p.y() + s.radius;
     for (const Vec2& v : s.vertices) y = std::max(y, p.y() + rotate(v, c, sn).y());
     const int b = static_cast<int>((p.x() - xmin) / bin_width);

@@ -123,7 +123,7 @@ void add_outline(Grid& g, const World& world, int body) {
     }
   } else {
     double sn, c;
-    portable_sincos(th, sn, c);
+    rotation_sincos(th, sn, c);
     for (const Vec2& v : s.vertices) g.add_point(p + rotate(v, c, sn));
   }
   g.close_cell(vtk_polygon);

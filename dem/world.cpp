@@ -169,7 +169,7 @@ void World::place_body(int body) {
   if (count == 0) return;  // a disc
   const double th = motion_.d[0][3 * body + 2];
   double sn, c;
-  portable_sincos(th, sn, c);  // one reduction for both
+  rotation_sincos(th, sn, c);  // one reduction for both
   const double px = motion_.d[0][3 * body], py = motion_.d[0][3 * body + 1];
   // p + R(theta) v for each body-frame corner v (vec2.h's rotate, in plain doubles).
   const Vec2* from = &body_vertices_[first];

@@ -129,7 +129,7 @@ Outline outline_of_pile(const dem::DemFile& file, const dem::Snapshot& snapshot,
     const dem::Shape& s = file.shapes.at(static_cast<std::size_t>(snapshot.body[g]));
     double top = c.y() + s.radius, left = c.x() - s.radius, right = c.x() + s.radius;
     double sn, cs;
-    portable_sincos(snapshot.angle[g], sn, cs);
+    rotation_sincos(snapshot.angle[g], sn, cs);
     for (const dem::Vec2& v : s.vertices) {
       const dem::Vec2 w = c + dem::rotate(v, cs, sn);
       top = std::max(top, w.y());

@@ -2,6 +2,7 @@
 // a crash: a full disk (a file-size limit, and a real small tmpfs where mounting is allowed), a
 // read-only file system, a time step far above the stability limit forced through, and an
 // empty scene.
+#include <algorithm>
 #include <filesystem>
 
 #include "../cli/cli_test_support.h"
@@ -20,11 +21,25 @@ class Reliability : public CliTest {
 };
 
 TEST_F(Reliability, AFullDiskIsAClearErrorWithoutACrash) {
-  // Files may not grow past the limit: at 16 KiB the first checkpoint (30 KB) cannot be
-  // written, at 48 KiB the frames and checkpoints fit and dem.h5 (55 KB) does not. The ignored
-  // SIGXFSZ makes the write fail (EFBIG) instead of killing the process.
+  // Files may not grow past a limit: one below the first checkpoint, so that nothing can be
+  // written, and one between the largest file written before dem.h5 and dem.h5 itself, so that
+  // the frames and checkpoints fit and dem.h5 does not. The sizes come from a run without a
+  // limit (they change with the pile's realisation). The ignored SIGXFSZ makes the write fail
+  // (EFBIG) instead of killing the process.
   const std::string scene = write_scene("tiny.toml", tiny_scene());
-  for (const int kib : {16, 48}) {
+  const std::string free_run = path("unlimited");
+  ASSERT_EQ(run("dem " + scene + " -o " + free_run + " -q -j 1").exit_code, 0);
+  std::uintmax_t dem_size = 0, largest_other = 0;
+  for (const auto& e : std::filesystem::directory_iterator(free_run)) {
+    const std::uintmax_t size = std::filesystem::file_size(e.path());
+    if (e.path().filename() == "dem.h5")
+      dem_size = size;
+    else
+      largest_other = std::max(largest_other, size);
+  }
+  const std::uintmax_t first_checkpoint = std::filesystem::file_size(free_run + "/checkpoint.h5");
+  ASSERT_GT(dem_size, largest_other + 2048) << "dem.h5 must be the largest file by a margin for this test";
+  for (const std::uintmax_t kib : {first_checkpoint / 1024 / 2, (largest_other + dem_size) / 2 / 1024}) {
     const std::string out = path("out" + std::to_string(kib));
     const auto r = run("bash -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; exec " + std::string(PILELAB_BINARY) +
                            " dem " + scene + " -o " + out + " -q -j 1\"",

@@ -177,7 +177,7 @@ inline void portable_sincos(double x, double& s, double& c) {
 /// less than half the cost (the DEM places every grain's corners every step). The same
 /// Cody-Waite reduction in plain doubles: x - k p1 and the products k p_i are exact, the two
 /// subtractions round (an ulp of r in all), and pi/2 is carried to 80 bits, so the part left
-/// out, k 2^-81, stays below 1e-18 for |x| < 2^20. Then the same Taylor series, without the
+/// out, 1.54 k 2^-81, stays below 1e-18 for |x| < 2^20. Then the same Taylor series, without the
 /// low parts carried. Every placement of a grain's corners from its angle (the
 /// World, the VTK writer, the coarse-graining's and the mesh's outlines) uses it, so that all
 /// put a corner at the same bits. |x| >= 2^20 rad, infinities and NaN, and |x| < 2^-27 (where

@@ -25,9 +25,9 @@ struct Overlap {
   int crossings = 0;   ///< number of boundary crossing points found
   /// Not touching: a lower bound on the distance between the shapes [m], their separation
   /// along the axis that showed them apart (a separating edge's outward normal, or the line of
-  /// centres); 0 where none did (the clip's answer). Along a fixed axis a separation shrinks by
-  /// at most how far the shapes' points move, which lets the World skip a pair until its
-  /// grains have moved that far.
+  /// centres); 0 where none did (the clip's answer). Along that axis, held where it was found,
+  /// the separation shrinks by at most how far the shapes' points move (and the distance, which
+  /// it bounds, likewise), which lets the World skip a pair until its grains have moved that far.
   double gap = 0.0;
   bool touching() const { return area > 0.0; }
 };

@@ -307,17 +307,21 @@ struct Triangle {
   }
 };
 
+// p lies left of the line e0 -> e1, farther than the margin from it. (Inlined by force: as a
+// lambda GCC kept it a call, three of them for every contact.)
+[[gnu::always_inline]] inline bool clearly_left_of_edge(const Point& e0, const Point& e1, const Point& p, double margin2) {
+  const double dx = e1.x - e0.x, dy = e1.y - e0.y;
+  const double side = side_of(dx, dy, e0, p);
+  return side > 0.0 && side * side > margin2 * (dx * dx + dy * dy);
+}
+
 // p lies in the triangle p0 p1 p2 (counter-clockwise), farther than the margin from each edge's
 // line: Triangle::clearly_contains for a single point, each edge formed only when the one
 // before has passed (the same operations, so the same answer).
 [[gnu::always_inline]] inline bool clearly_in_triangle(const Point& p0, const Point& p1, const Point& p2, const Point& p,
                                                        double margin2) {
-  const auto clearly_left_of = [&](const Point& e0, const Point& e1) {
-    const double dx = e1.x - e0.x, dy = e1.y - e0.y;
-    const double side = side_of(dx, dy, e0, p);
-    return side > 0.0 && side * side > margin2 * (dx * dx + dy * dy);
-  };
-  return clearly_left_of(p0, p1) && clearly_left_of(p1, p2) && clearly_left_of(p2, p0);
+  return clearly_left_of_edge(p0, p1, p, margin2) && clearly_left_of_edge(p1, p2, p, margin2) &&
+         clearly_left_of_edge(p2, p0, p, margin2);
 }
 
 // The overlap of a two-crossing configuration from its crossings X1 (a enters b) and X2, and

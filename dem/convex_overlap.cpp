@@ -422,10 +422,38 @@ struct Triangle {
   return two_crossing_result(x1, x2, a2, margin, o);
 }
 
+// One corner of each polygon inside the other, the usual shape of a flat face pressed on a flat
+// face: a's corner j = i + 1 in b, b's corner k = l + 1 in a, and the overlap the quadrilateral
+// X1, a[j], X2, b[k]. general_two_crossing's tests and operations for chains of one corner
+// each, in its order, without its loops; returns false where it would.
+[[gnu::always_inline]] inline bool corner_each(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                               const Vec2& centroid_b, int i, int k, int j, int l, double margin2,
+                                               Point& x1, Point& x2, double& a2) {
+  if (!proper_crossing<true>(a, na, i, b, nb, k, margin2, x1)) return false;
+  if (!proper_crossing<false>(a, na, j, b, nb, l, margin2, x2)) return false;
+  const Point in_b = point_at(a, j), in_a = point_at(b, k);
+  if (!clearly_in_triangle(x2, x1, {centroid_b.x(), centroid_b.y()}, in_b, margin2) &&
+      !clearly_inside(in_b, b, nb, margin2))
+    return false;
+  if (!clearly_in_triangle(x1, x2, {centroid_a.x(), centroid_a.y()}, in_a, margin2) &&
+      !clearly_inside(in_a, a, na, margin2))
+    return false;
+  // The shoelace about X1 over a[j], X2, b[k], term by term as the general case sums it.
+  double px = 0.0, py = 0.0;
+  a2 = 0.0;
+  for (const Point& p : {in_b, x2, in_a}) {
+    const double qx = p.x - x1.x, qy = p.y - x1.y;
+    a2 += px * qy - py * qx;
+    px = qx;
+    py = qy;
+  }
+  return true;
+}
+
 // The overlap from the four crossing edges, if they prove a two-crossing configuration.
 // centroid_a and centroid_b must lie inside their polygons. The two shapes of a shallow
-// contact, a corner of a in an edge of b or of b in an edge of a, are spelt out; the hot path of
-// the DEM is this function with those two branches.
+// contact, a corner of a in an edge of b or of b in an edge of a, and a corner of each in the
+// other are spelt out; the hot path of the DEM is this function with those three branches.
 [[gnu::always_inline]] inline bool two_crossing_overlap(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b,
                                                         int nb, const Vec2& centroid_b, const std::uint8_t edge[4],
                                                         double margin, Overlap& o) {
@@ -443,6 +471,10 @@ struct Triangle {
     if (corner_in_edge(point_at(b, l), point_at(b, k), point_at(b, next_index(k, nb)), point_at(a, i),
                        point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, margin2, x2, x1, a2))
       return two_crossing_result(x1, x2, a2, margin, o);
+  } else if (j == next_index(i, na) && k == next_index(l, nb)) {
+    if (corner_each(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin2, x1, x2, a2))
+      return two_crossing_result(x1, x2, a2, margin, o);
+    return false;
   }
   return general_two_crossing(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin, o);
 }

@@ -51,7 +51,7 @@ class Stepper {
 };
 
 // Inline: the World calls both for every grain of every step.
-inline void Stepper::predict(MotionState& m, int i) const {
+[[gnu::always_inline]] inline void Stepper::predict(MotionState& m, int i) const {
   auto& d = m.d;
   if (scheme_ == Scheme::gear5) {
     const double h = taylor_[0], h2 = taylor_[1], h3 = taylor_[2], h4 = taylor_[3], h5 = taylor_[4];

@@ -164,7 +164,7 @@ void World::restore_activity(const std::vector<std::uint8_t>& active) {
   neighbours_stale_ = true;
 }
 
-void World::place_body(int body) {
+[[gnu::always_inline]] inline void World::place_body(int body) {
   const int first = vertex_offset_[body], count = vertex_offset_[body + 1] - first;
   if (count == 0) return;  // a disc
   const double th = motion_.d[0][3 * body + 2];

@@ -236,6 +236,20 @@ void run_pipeline(const RunOptions& opt) {
     return *measured;
   };
 
+  // The angles the FPA will take (continuum/solve.cpp, apply_measured_pile): the scene's
+  // [continuum.fpa] angles if it gives any and does not ask for the DEM's, else the measured.
+  const auto fpa_angles = [&]() -> std::optional<std::array<double, 2>> {
+    const auto fpa = toml_scene["continuum"]["fpa"];
+    const bool from_dem = fpa["repose_angle_source"].value_or(std::string("scene")) == "dem";
+    const std::optional<double> both = fpa["repose_angle_deg"].value<double>();
+    const std::optional<double> left = fpa["left_repose_angle_deg"].value<double>();
+    const std::optional<double> right = fpa["right_repose_angle_deg"].value<double>();
+    if (!from_dem && (both || left || right)) return std::array<double, 2>{left.value_or(both.value_or(28.0)),
+                                                                           right.value_or(both.value_or(28.0))};
+    if (const auto& pile = pile_measured()) return std::array<double, 2>{pile->left_angle_deg, pile->right_angle_deg};
+    return std::nullopt;
+  };
+
   // Each stage: its tables, its inputs, its outputs, whether every rank takes part, its action.
   std::vector<Stage> stages;
   if (ensemble.empty()) {
@@ -266,8 +280,9 @@ void run_pipeline(const RunOptions& opt) {
   stages.push_back({"mesh", {"mesh"}, piles, join(scene_paths("mesh", "dem_file"), member_files), {"pile.msh"}, false, [&] {
                       // An ensemble's mesh: the wedge of the members' mean flanks and height, or
                       // (kind = "dem_outline") their mean outline.
-                      mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, member_files};
+                      mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, member_files, std::nullopt};
                       if (!ensemble.empty()) o.measured_pile = pile_measured();
+                      o.measured_repose_angles_deg = fpa_angles();  // where a DEM outline's rays go
                       mesh::run_mesh(o);
                     }});
   stages.push_back({"coarse", {"coarse"}, join(piles, {"pile.msh"}),

@@ -82,7 +82,7 @@ std::string find_or_make_mesh(const ContinuumSettings& s, const SolveOptions& o,
     throw InputError(o.scene_path + ": no mesh: expected continuum.mesh_file, an existing " + pile +
                      " (from `pilelab mesh`), or a [mesh] table to generate one from");
   pcout << "continuum: no " << pile << ", generating it from the scene's [mesh] table\n";
-  on_rank0(comm, [&] { mesh::run_mesh({o.scene_path, o.out_dir, std::nullopt, {}}); });
+  on_rank0(comm, [&] { mesh::run_mesh({o.scene_path, o.out_dir, std::nullopt, {}, std::nullopt}); });
   return pile;
 }
 

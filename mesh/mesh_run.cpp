@@ -1,6 +1,7 @@
 #include "mesh/mesh_run.h"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 
 #include "common/atomic_file.h"
@@ -30,9 +31,17 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
       spec.dem_files = opt.member_dem_files;
   }
 
+  if (spec.kind == MeshSpec::Kind::dem_outline && opt.measured_repose_angles_deg) {
+    if (!reader.has("mesh.left_angle_deg")) spec.ray_left_angle_deg = (*opt.measured_repose_angles_deg)[0];
+    if (!reader.has("mesh.right_angle_deg")) spec.ray_right_angle_deg = (*opt.measured_repose_angles_deg)[1];
+  }
+
   prepare_output_directory(opt.out_dir);
   const std::string msh = (std::filesystem::path(opt.out_dir) / "pile.msh").string();
-  write_mesh(spec, msh);
+  const MeshOutcome outcome = write_mesh(spec, msh);
+  if (spec.embed_rays && !outcome.rays_embedded)
+    std::fprintf(stderr, "pilelab mesh: the FPA's rays are not mesh edges: %s; the FPA smears its kinks over several cells there "
+                 "(docs/CONTINUUM.md, Limitations)\n", outcome.rays_note.c_str());
   const TriangleMesh mesh = read_triangle_mesh(msh);
 
   const double area = mesh_area(mesh);
@@ -53,6 +62,13 @@ nlohmann::json run_mesh(const MeshRunOptions& opt) {
       section["dem_file"] = spec.dem_file;
     else
       section["mean_outline_of"] = spec.dem_files.size();  // members, listed in the coarse section
+  }
+  if (spec.embed_rays) {
+    section["fpa_rays_embedded"] = outcome.rays_embedded;
+    if (outcome.rays_embedded)
+      section["fpa_rays_angles_deg"] = {outcome.ray_left_angle_deg, outcome.ray_right_angle_deg};
+    else
+      section["fpa_rays_not_embedded_because"] = outcome.rays_note;
   }
   if (spec.kind == MeshSpec::Kind::wedge)
     section["wedge"] = {{"height_m", spec.wedge.height_m},

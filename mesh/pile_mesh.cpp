@@ -56,8 +56,9 @@ std::vector<int> chain(const std::vector<int>& points) {
 
 // The pile region bounded by the outline and the base y = 0. With embed_axis, the vertical
 // through the apex splits it into two surfaces that share the axis, so element edges follow
-// the axis.
-void build_pile(const Outline& outline, const MeshSpec& spec) {
+// the axis; with rays (their feet on the base) the two FPA characteristics from the apex split
+// it into four.
+void build_pile(const Outline& outline, const MeshSpec& spec, const std::optional<RayFeet>& rays) {
   const auto& s = outline.surface;
   const int a = outline.apex_index;
   const double size = spec.element_size_m;
@@ -71,15 +72,11 @@ void build_pile(const Outline& outline, const MeshSpec& spec) {
   const std::vector<int> right_flank = chain(right_points);
   const bool split = spec.embed_axis && s[a].x() > s.front().x() && s[a].x() < s.back().x();
   std::vector<int> base, surfaces;
-  if (split && spec.embed_rays) {
-    // Four regions: the axis and the two FPA characteristics from the apex, at psi = 45 - phi/2
-    // degrees from the vertical on each side, all meshed along (an ideal wedge only).
-    const double h = s[a].y();
-    const double psi_left = (45.0 - 0.5 * spec.wedge.left_angle_deg) * degree;
-    const double psi_right = (45.0 - 0.5 * spec.wedge.right_angle_deg) * degree;
+  if (split && rays) {
+    // Four regions: the axis and the two characteristics, all meshed along.
     const int foot = gmsh::model::geo::addPoint(s[a].x(), 0.0, 0.0, axis_size);
-    const int ray_left_foot = gmsh::model::geo::addPoint(s[a].x() - h * std::tan(psi_left), 0.0, 0.0, size);
-    const int ray_right_foot = gmsh::model::geo::addPoint(s[a].x() + h * std::tan(psi_right), 0.0, 0.0, size);
+    const int ray_left_foot = gmsh::model::geo::addPoint(rays->left_x, 0.0, 0.0, size);
+    const int ray_right_foot = gmsh::model::geo::addPoint(rays->right_x, 0.0, 0.0, size);
     const int b0 = gmsh::model::geo::addLine(pt.front(), ray_left_foot);
     const int b1 = gmsh::model::geo::addLine(ray_left_foot, foot);
     const int b2 = gmsh::model::geo::addLine(foot, ray_right_foot);
@@ -167,6 +164,36 @@ void check_element_count(double area, const MeshSpec& spec) {
   }
 }
 
+// Meshes the model gmsh holds and writes it as MSH 4.1 ASCII to tmp.
+void generate_and_write(const std::string& tmp) {
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: well-shaped triangles
+  gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+  gmsh::option::setNumber("Mesh.Binary", 0);
+  gmsh::model::mesh::generate(2);
+  // gmsh picks the format from the extension, so write X.msh and move it to the temporary name.
+  const std::string with_extension = tmp + ".msh";
+  gmsh::write(with_extension);
+  std::filesystem::rename(with_extension, tmp);
+}
+
+// Whether the closed segments pq and uv share a point (touching counts).
+bool segments_meet(dem::Vec2 p, dem::Vec2 q, dem::Vec2 u, dem::Vec2 v) {
+  const auto side = [](dem::Vec2 a, dem::Vec2 b, dem::Vec2 c) { return dem::cross(b - a, c - a); };
+  const double d1 = side(u, v, p), d2 = side(u, v, q), d3 = side(p, q, u), d4 = side(p, q, v);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+  const auto on = [](dem::Vec2 a, dem::Vec2 b, dem::Vec2 c, double d) {  // c on segment ab, given d = side(a, b, c)
+    return d == 0 && std::min(a.x(), b.x()) <= c.x() && c.x() <= std::max(a.x(), b.x()) &&
+           std::min(a.y(), b.y()) <= c.y() && c.y() <= std::max(a.y(), b.y());
+  };
+  return on(u, v, p, d1) || on(u, v, q, d2) || on(p, q, u, d3) || on(p, q, v, d4);
+}
+
+std::string point_text(dem::Vec2 p) {
+  char text[64];
+  std::snprintf(text, sizeof text, "(%.4g, %.4g) m", p.x(), p.y());
+  return text;
+}
+
 }  // namespace
 
 double estimated_triangle_count(double area, const MeshSpec& spec) {
@@ -213,11 +240,66 @@ MeshSpec read_mesh_scene(SceneReader& r, const std::string& scene_dir) {
   spec.element_size_m = r.get_double("mesh.element_size_m", spec.element_size_m, Range::positive());
   spec.axis_element_size_m = r.get_double("mesh.axis_element_size_m", 0.0, Range::at_least(0.0));
   spec.embed_axis = r.get_bool("mesh.embed_axis", spec.embed_axis);
-  // On by default wherever the mesh allows (a wedge split at its axis): the FPA is then exact.
-  spec.embed_rays = r.get_bool("mesh.embed_fpa_rays", spec.kind == MeshSpec::Kind::wedge && spec.embed_axis);
-  if (spec.embed_rays && (spec.kind != MeshSpec::Kind::wedge || !spec.embed_axis))
-    throw InputError(r.source() + ": mesh.embed_fpa_rays needs mesh.kind = \"wedge\" and mesh.embed_axis = true");
+  // On by default wherever the mesh allows (split at its axis): on a wedge the FPA is then
+  // exact; on a DEM outline its largest kinks are edges.
+  spec.embed_rays = r.get_bool("mesh.embed_fpa_rays", spec.kind != MeshSpec::Kind::block && spec.embed_axis);
+  if (spec.embed_rays && (spec.kind == MeshSpec::Kind::block || !spec.embed_axis))
+    throw InputError(r.source() +
+                     ": mesh.embed_fpa_rays needs mesh.kind = \"wedge\" or \"dem_outline\" and mesh.embed_axis = true");
+  // A DEM outline's rays: at the flank angles the scene gives, else at the angles the DEM
+  // measured (the run hands them over, as it does to the FPA).
+  if (spec.kind == MeshSpec::Kind::dem_outline && r.has("mesh.left_angle_deg"))
+    spec.ray_left_angle_deg = spec.wedge.left_angle_deg;
+  if (spec.kind == MeshSpec::Kind::dem_outline && r.has("mesh.right_angle_deg"))
+    spec.ray_right_angle_deg = spec.wedge.right_angle_deg;
   return spec;
+}
+
+std::optional<RayFeet> fpa_ray_feet(const Outline& outline, double left_angle_deg, double right_angle_deg,
+                                    std::string& why_not) {
+  const auto& s = outline.surface;
+  const int a = outline.apex_index, n = static_cast<int>(s.size());
+  if (n < 3 || a <= 0 || a >= n - 1 || !(s[a].x() > s.front().x() && s[a].x() < s.back().x())) {
+    why_not = "the outline has no apex between its feet";
+    return std::nullopt;
+  }
+  const dem::Vec2 apex = s[a];
+  RayFeet feet;
+  for (const bool right : {false, true}) {
+    const char* name = right ? "right" : "left";
+    const double phi = right ? right_angle_deg : left_angle_deg;
+    if (!(phi > 0 && phi < 90)) {
+      why_not = std::string("no angle of repose for the ") + name + " ray";
+      return std::nullopt;
+    }
+    char ray_name[64];
+    std::snprintf(ray_name, sizeof ray_name, "the %s ray (phi = %.4g degrees)", name, phi);
+    const double sign = right ? 1.0 : -1.0;
+    const dem::Vec2 foot(apex.x() + sign * apex.y() * std::tan((45.0 - 0.5 * phi) * degree), 0.0);
+    if (!(right ? foot.x() < s.back().x() : foot.x() > s.front().x())) {
+      why_not = std::string(ray_name) + " meets the base at " + point_text(foot) + ", beyond the pile's foot at " +
+                point_text(right ? s.back() : s.front());
+      return std::nullopt;
+    }
+    // The edge at the apex on the ray's side must lie above the ray (sign * cross > 0 on the
+    // flank's side), or the ray leaves the pile at once; the other side's edges lie across the
+    // axis (the surface's x only grows) and meet this ray at most in the apex.
+    const dem::Vec2 next = s[right ? a + 1 : a - 1];
+    if (!(sign * dem::cross(foot - apex, next - apex) > 0)) {
+      why_not = std::string(ray_name) + " leaves the pile at the apex: the surface next to it, towards " +
+                point_text(next) + ", falls more steeply";
+      return std::nullopt;
+    }
+    const int first = right ? a + 1 : 0, last = right ? n - 1 : a - 1;  // the edges (i, i + 1) beyond it
+    for (int i = first; i < last; ++i)
+      if (segments_meet(apex, foot, s[i], s[i + 1])) {
+        why_not = std::string(ray_name) + " crosses the surface between " + point_text(s[i]) + " and " +
+                  point_text(s[i + 1]);
+        return std::nullopt;
+      }
+    (right ? feet.right_x : feet.left_x) = foot.x();
+  }
+  return feet;
 }
 
 Outline wedge_outline(const Wedge& w) {
@@ -229,29 +311,35 @@ Outline wedge_outline(const Wedge& w) {
   return o;
 }
 
-void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
+MeshOutcome write_mesh(const MeshSpec& spec, const std::string& msh_path) {
   Outline outline;
-  double area = 0;
   switch (spec.kind) {
     case MeshSpec::Kind::wedge:
       outline = wedge_outline(spec.wedge);
-      area = outline_area(outline);
       break;
-    case MeshSpec::Kind::block:
-      area = spec.block.width_m * spec.block.height_m;
-      break;
+    case MeshSpec::Kind::block: {
+      check_element_count(spec.block.width_m * spec.block.height_m, spec);
+      write_atomically(msh_path, [&](const std::string& tmp) {
+        GmshSession session;
+        gmsh::model::add("pile");
+        build_block(spec.block, spec.element_size_m);
+        generate_and_write(tmp);
+      });
+      return {};
+    }
     case MeshSpec::Kind::dem_outline: {
-      // Strips of one element, or of one grain where elements are larger than grains (a coarse
-      // mesh still follows the pile's shape); the polyline keeps every feature above a quarter
-      // of that.
+      // Strips of one grain; the polyline keeps every feature above a quarter of that. The
+      // outline depends on the grains alone, not on the element size, so that refining the mesh
+      // refines one domain (a coarse mesh still follows the pile's shape: gmsh puts a node at
+      // every vertex of it).
       double diameter = 0;  // the piles' mean grain diameter
-      double tolerance = spec.element_size_m / 4;
+      double tolerance = INFINITY;
       const auto outline_of = [&](const std::string& path) {
         const dem::DemFile file = dem::read_dem_file(path);
         const dem::Snapshot snapshot = file.snapshot(spec.dem_snapshot);
         const double d = mean_grain_diameter(file, snapshot);
         diameter = std::max(diameter, d);
-        const double strip = std::min(spec.element_size_m, d > 0 ? d : spec.element_size_m);
+        const double strip = d > 0 ? d : spec.element_size_m;
         tolerance = std::min(tolerance, strip / 4);
         return outline_of_pile(file, snapshot, strip, strip / 4);
       };
@@ -259,7 +347,7 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
         // An ensemble: the members' mean surface.
         std::vector<Outline> members;
         for (const std::string& path : spec.dem_files) members.push_back(outline_of(path));
-        outline = mean_outline(members, std::min(spec.element_size_m, diameter));
+        outline = mean_outline(members, diameter > 0 ? diameter : spec.element_size_m);
       } else {
         if (spec.dem_file.empty()) throw InputError("mesh.kind = \"dem_outline\" needs mesh.dem_file (a dem.h5)");
         outline = outline_of(spec.dem_file);
@@ -271,28 +359,33 @@ void write_mesh(const MeshSpec& spec, const std::string& msh_path) {
       outline.apex_index = 0;
       for (int i = 1; i + 1 < static_cast<int>(outline.surface.size()); ++i)
         if (outline.surface[i].y() > outline.surface[outline.apex_index].y()) outline.apex_index = i;
-      area = outline_area(outline);
       break;
     }
   }
-  check_element_count(area, spec);
+  return write_outline_mesh(outline, spec, msh_path);
+}
 
+MeshOutcome write_outline_mesh(const Outline& outline, const MeshSpec& spec, const std::string& msh_path) {
+  check_element_count(outline_area(outline), spec);
+  MeshOutcome outcome;
+  std::optional<RayFeet> rays;
+  if (spec.embed_rays && spec.embed_axis) {
+    const bool wedge = spec.kind == MeshSpec::Kind::wedge;
+    outcome.ray_left_angle_deg = wedge ? spec.wedge.left_angle_deg : spec.ray_left_angle_deg;
+    outcome.ray_right_angle_deg = wedge ? spec.wedge.right_angle_deg : spec.ray_right_angle_deg;
+    if (outcome.ray_left_angle_deg > 0 && outcome.ray_right_angle_deg > 0)
+      rays = fpa_ray_feet(outline, outcome.ray_left_angle_deg, outcome.ray_right_angle_deg, outcome.rays_note);
+    else
+      outcome.rays_note = "no angles of repose known (give mesh.left_angle_deg and mesh.right_angle_deg, or run the dem stage)";
+    outcome.rays_embedded = rays.has_value();
+  }
   write_atomically(msh_path, [&](const std::string& tmp) {
     GmshSession session;
     gmsh::model::add("pile");
-    if (spec.kind == MeshSpec::Kind::block)
-      build_block(spec.block, spec.element_size_m);
-    else
-      build_pile(outline, spec);
-    gmsh::option::setNumber("Mesh.Algorithm", 6);  // Frontal-Delaunay: well-shaped triangles
-    gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
-    gmsh::option::setNumber("Mesh.Binary", 0);
-    gmsh::model::mesh::generate(2);
-    // gmsh picks the format from the extension, so write X.msh and move it to the temporary name.
-    const std::string with_extension = tmp + ".msh";
-    gmsh::write(with_extension);
-    std::filesystem::rename(with_extension, tmp);
+    build_pile(outline, spec, rays);
+    generate_and_write(tmp);
   });
+  return outcome;
 }
 
 double mesh_area(const TriangleMesh& m) {

@@ -6,6 +6,7 @@
 // ignores unnamed groups): see BoundaryId. All cells form one physical surface "MaterialID:0".
 // The pile stands on y = 0; lengths are in metres; angles in degrees from the horizontal.
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,10 +57,33 @@ struct MeshSpec {
   double element_size_m = 0.02;         ///< target edge length
   double axis_element_size_m = 0.0;     ///< near the vertical axis through the apex (0: same)
   bool embed_axis = true;               ///< element edges follow the axis (the FPA kink)
-  bool embed_rays = false;              ///< wedge: also the FPA characteristics from the apex (the
-                                        ///< scene's default: on for wedges),
-                                        ///< psi = 45 - phi/2 from the vertical (kinks of its stress)
+  /// Also the FPA's two characteristics from the apex, at psi = 45 - phi/2 from the vertical
+  /// (kinks of its stress), where they run inside the pile (the scene's default: on wherever
+  /// the axis is). A wedge takes phi from its flanks; a DEM outline from ray_angles_deg.
+  bool embed_rays = false;
+  /// kind == dem_outline: the FPA's angles of repose (left, right) [degree] whose rays are
+  /// embedded; 0 when none is known (then no ray is embedded, and the outcome says so).
+  double ray_left_angle_deg = 0.0, ray_right_angle_deg = 0.0;
 };
+
+/// What write_mesh made beyond the spec: whether the FPA's rays are edges of the mesh, and if
+/// not, why (a ray that leaves a ragged outline, an outline without an apex between its feet,
+/// no angles known).
+struct MeshOutcome {
+  bool rays_embedded = false;
+  double ray_left_angle_deg = 0.0, ray_right_angle_deg = 0.0;  ///< the phi of the embedded rays
+  std::string rays_note;  ///< empty when embedded or not asked for
+};
+
+/// Where the FPA's characteristics from the apex of an outline meet the base, if both run
+/// inside the pile: each ray from the apex at psi = 45 - phi/2 degrees from the vertical must
+/// reach the base between the feet without crossing the outline (on a ragged surface a notch
+/// near the apex can cut it). Otherwise why_not names the side and the crossing.
+struct RayFeet {
+  double left_x = 0.0, right_x = 0.0;  ///< [m]
+};
+std::optional<RayFeet> fpa_ray_feet(const Outline& outline, double left_angle_deg, double right_angle_deg,
+                                    std::string& why_not);
 
 /// Reads the [mesh] table; relative file names are taken relative to scene_dir.
 MeshSpec read_mesh_scene(SceneReader& reader, const std::string& scene_dir);
@@ -73,7 +97,11 @@ Outline wedge_outline(const Wedge& wedge);
 double estimated_triangle_count(double area, const MeshSpec& spec);
 
 /// Meshes spec and writes msh_path atomically. Throws InputError on degenerate geometry.
-void write_mesh(const MeshSpec& spec, const std::string& msh_path);
+MeshOutcome write_mesh(const MeshSpec& spec, const std::string& msh_path);
+
+/// Meshes the region between an outline and the base with spec's sizes and embedded lines
+/// (spec.kind only decides where the rays' angles come from), and writes msh_path atomically.
+MeshOutcome write_outline_mesh(const Outline& outline, const MeshSpec& spec, const std::string& msh_path);
 
 /// A triangulation as plain arrays (what coarse/ needs; deal.II reads the file itself).
 struct TriangleMesh {

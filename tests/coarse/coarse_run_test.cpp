@@ -38,7 +38,7 @@ class CoarseRun : public ::testing::Test {
       dem.quiet = true;
       pilelab::dem::run_dem(dem);
     }
-    pilelab::mesh::run_mesh({scene, out_, std::nullopt, {}});
+    pilelab::mesh::run_mesh({scene, out_, std::nullopt, {}, std::nullopt});
     report_ = pilelab::coarse::run_coarse({scene, out_, {}});
   }
   static void TearDownTestSuite() { std::filesystem::remove_all(out_); }

@@ -2,6 +2,7 @@
 // convention deal.II relies on, and clear errors for bad mesh files.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include "mesh/pile_mesh.h"
 
 using namespace pilelab::mesh;
+namespace dem = pilelab::dem;
 
 namespace {
 std::string temp_path(const std::string& name) {
@@ -66,6 +68,116 @@ TEST(PileMesh, FpaRaysAreMeshEdges) {
     int on_ray = 0;
     for (const auto& p : m.nodes) on_ray += std::abs(p.x() - side * (h - p.y()) * t) < 1e-12 && p.y() < h - 1e-9;
     EXPECT_GE(on_ray, static_cast<int>(h / 0.02)) << phi;
+  }
+}
+
+namespace {
+// A 26 / 24 degree pile whose flanks are stairs of grain-sized steps (treads and risers of
+// about 1 cm), as a DEM outline is before smoothing; apex at (0, h), feet at y = 0.
+Outline stepped_pile(double h) {
+  Outline o;
+  const double step = 0.01;
+  for (const auto& [phi, sign] : {std::pair{26.0, -1.0}, std::pair{24.0, 1.0}}) {
+    std::vector<dem::Vec2> side;
+    const double run = h / std::tan(phi * M_PI / 180);
+    const int n = static_cast<int>(run / step);
+    for (int k = n; k >= 1; --k) {  // from the foot up: riser, then tread
+      const double x = sign * run * k / n, y = h * (n - k) / n;
+      side.emplace_back(x, y);
+      side.emplace_back(x, y + h / n);
+    }
+    if (sign < 0) {
+      for (const auto& p : side) o.surface.push_back(p);
+      o.apex_index = static_cast<int>(o.surface.size());
+      o.surface.emplace_back(0.0, h);
+    } else {
+      const std::vector<dem::Vec2> right(side.rbegin(), side.rend());
+      for (const auto& p : right) o.surface.push_back(p);
+    }
+  }
+  return o;
+}
+
+int nodes_on_ray(const TriangleMesh& m, double h, double phi, double sign) {
+  const double t = std::tan((45.0 - phi / 2) * M_PI / 180);
+  int on_ray = 0;
+  for (const auto& p : m.nodes) on_ray += std::abs(p.x() - sign * (h - p.y()) * t) < 1e-12 && p.y() < h - 1e-9;
+  return on_ray;
+}
+}  // namespace
+
+// The characteristics run from the apex at psi = 45 - phi/2 from the vertical and meet the base
+// at x = x_apex -+ h tan(psi).
+TEST(FpaRayFeet, LieWhereTheCharacteristicsMeetTheBase) {
+  const double h = 0.3;
+  std::string why;
+  const auto feet = fpa_ray_feet(stepped_pile(h), 26.0, 24.0, why);
+  ASSERT_TRUE(feet) << why;
+  EXPECT_NEAR(feet->left_x, -h * std::tan(32.0 * M_PI / 180), 1e-15);
+  EXPECT_NEAR(feet->right_x, h * std::tan(33.0 * M_PI / 180), 1e-15);
+}
+
+// On a DEM-like outline the rays are mesh edges as on a wedge, and the mesh still tiles the
+// region exactly.
+TEST(PileMesh, FpaRaysAreMeshEdgesOnARaggedOutline) {
+  const double h = 0.3;
+  const Outline outline = stepped_pile(h);
+  MeshSpec spec;
+  spec.kind = MeshSpec::Kind::dem_outline;
+  spec.element_size_m = 0.02;
+  spec.embed_rays = true;
+  spec.ray_left_angle_deg = 26.0;
+  spec.ray_right_angle_deg = 24.0;
+  const std::string path = temp_path("ragged_rays.msh");
+  const MeshOutcome outcome = write_outline_mesh(outline, spec, path);
+  ASSERT_TRUE(outcome.rays_embedded) << outcome.rays_note;
+  const TriangleMesh m = read_triangle_mesh(path);
+  double twice = 0;  // the outline's area (shoelace; the base closes it at y = 0)
+  for (std::size_t i = 0; i + 1 < outline.surface.size(); ++i)
+    twice += outline.surface[i].x() * outline.surface[i + 1].y() - outline.surface[i + 1].x() * outline.surface[i].y();
+  EXPECT_NEAR(mesh_area(m), std::abs(twice) / 2, 1e-12);
+  EXPECT_GE(nodes_on_ray(m, h, 26.0, -1.0), static_cast<int>(h / 0.02));
+  EXPECT_GE(nodes_on_ray(m, h, 24.0, 1.0), static_cast<int>(h / 0.02));
+}
+
+// Where a ray would leave the pile the mesh follows the axis only, and says which ray and where.
+TEST(PileMesh, ARayThatLeavesThePileIsNotEmbeddedAndTheOutcomeSaysWhy) {
+  const double h = 0.3;
+  MeshSpec spec;
+  spec.kind = MeshSpec::Kind::dem_outline;
+  spec.element_size_m = 0.02;
+  spec.embed_rays = true;
+  spec.ray_left_angle_deg = spec.ray_right_angle_deg = 25.0;
+  {
+    // A notch in the left flank, 0.1 m from the axis, reaching down below the left ray.
+    Outline notched = stepped_pile(h);
+    std::vector<dem::Vec2>& s = notched.surface;
+    const auto at = std::find_if(s.begin(), s.end(), [](const dem::Vec2& p) { return p.x() > -0.1; });
+    const double below_ray = h - 0.1 / std::tan(32.5 * M_PI / 180) - 0.01;  // the ray is at y = 0.143 m there
+    s.insert(at, {dem::Vec2(-0.1, below_ray), dem::Vec2(-0.095, below_ray)});
+    notched.apex_index += 2;
+    const MeshOutcome outcome = write_outline_mesh(notched, spec, temp_path("notched.msh"));
+    EXPECT_FALSE(outcome.rays_embedded);
+    EXPECT_NE(outcome.rays_note.find("left ray"), std::string::npos) << outcome.rays_note;
+    EXPECT_NE(outcome.rays_note.find("crosses the surface"), std::string::npos) << outcome.rays_note;
+    EXPECT_GT(read_triangle_mesh(temp_path("notched.msh")).triangles.size(), 0u);
+  }
+  {
+    // A top whose right side drops more steeply than the right ray (a grain standing on the apex).
+    Outline spire = stepped_pile(h);
+    spire.surface.insert(spire.surface.begin() + spire.apex_index + 1, dem::Vec2(0.001, h - 0.01));
+    const MeshOutcome outcome = write_outline_mesh(spire, spec, temp_path("spire.msh"));
+    EXPECT_FALSE(outcome.rays_embedded);
+    EXPECT_NE(outcome.rays_note.find("right ray"), std::string::npos) << outcome.rays_note;
+    EXPECT_NE(outcome.rays_note.find("at the apex"), std::string::npos) << outcome.rays_note;
+  }
+  {
+    // No angles known: nothing to embed.
+    MeshSpec no_angles = spec;
+    no_angles.ray_left_angle_deg = no_angles.ray_right_angle_deg = 0.0;
+    const MeshOutcome outcome = write_outline_mesh(stepped_pile(h), no_angles, temp_path("no_angles.msh"));
+    EXPECT_FALSE(outcome.rays_embedded);
+    EXPECT_NE(outcome.rays_note.find("no angles"), std::string::npos) << outcome.rays_note;
   }
 }
 

@@ -107,48 +107,55 @@ void ElasticProblem::setup_system() {
 }
 
 // Cell by cell: A_ij = int lambda div(phi_i) div(phi_j) + 2 mu eps(phi_i) : eps(phi_j),
-// b_i = int f . phi_i. Constraints are applied while copying into the global system.
-void ElasticProblem::assemble_system() {
-  const QGaussSimplex<2> quadrature(fe_.degree + 1);
-  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature,
-                        update_values | update_gradients | update_quadrature_points | update_JxW_values);
-  const unsigned n = fe_.n_dofs_per_cell(), nq = quadrature.size();
-  FullMatrix<double> cell_matrix(n, n);
-  Vector<double> cell_rhs(n);
-  std::vector<types::global_dof_index> dofs(n);
+// b_i = int f . phi_i.
+void ElasticProblem::local_system(const DoFHandler<2>::active_cell_iterator& cell, FEValues<2>& fe_values,
+                                  FullMatrix<double>& cell_matrix, Vector<double>& cell_rhs) const {
+  const unsigned n = fe_.n_dofs_per_cell(), nq = fe_values.n_quadrature_points;
   std::vector<SymmetricTensor<2, 2>> eps(n);
   std::vector<double> div(n);
   std::vector<Tensor<1, 2>> phi(n);
   Vector<double> f_value(2);
   const FEValuesExtractors::Vector u(0);
+  fe_values.reinit(cell);
+  cell_matrix = 0;
+  cell_rhs = 0;
+  for (unsigned q = 0; q < nq; ++q) {
+    for (unsigned i = 0; i < n; ++i) {
+      eps[i] = fe_values[u].symmetric_gradient(i, q);
+      div[i] = fe_values[u].divergence(i, q);
+      phi[i] = fe_values[u].value(i, q);
+    }
+    Tensor<1, 2> f;
+    if (body_force_) {
+      body_force_->vector_value(fe_values.quadrature_point(q), f_value);
+      f[0] = f_value[0];
+      f[1] = f_value[1];
+    } else {
+      f[1] = -density_ * gravity_;  // gravity along -y
+    }
+    const double JxW = fe_values.JxW(q);
+    for (unsigned i = 0; i < n; ++i) {
+      for (unsigned j = 0; j <= i; ++j)
+        cell_matrix(i, j) += (lambda_ * div[i] * div[j] + 2.0 * mu_ * (eps[i] * eps[j])) * JxW;
+      cell_rhs(i) += (phi[i] * f) * JxW;
+    }
+  }
+  for (unsigned i = 0; i < n; ++i)
+    for (unsigned j = i + 1; j < n; ++j) cell_matrix(i, j) = cell_matrix(j, i);
+}
+
+// Constraints are applied while copying into the global system.
+void ElasticProblem::assemble_system() {
+  const QGaussSimplex<2> quadrature(fe_.degree + 1);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature,
+                        update_values | update_gradients | update_quadrature_points | update_JxW_values);
+  const unsigned n = fe_.n_dofs_per_cell();
+  FullMatrix<double> cell_matrix(n, n);
+  Vector<double> cell_rhs(n);
+  std::vector<types::global_dof_index> dofs(n);
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     if (!cell->is_locally_owned()) continue;
-    fe_values.reinit(cell);
-    cell_matrix = 0;
-    cell_rhs = 0;
-    for (unsigned q = 0; q < nq; ++q) {
-      for (unsigned i = 0; i < n; ++i) {
-        eps[i] = fe_values[u].symmetric_gradient(i, q);
-        div[i] = fe_values[u].divergence(i, q);
-        phi[i] = fe_values[u].value(i, q);
-      }
-      Tensor<1, 2> f;
-      if (body_force_) {
-        body_force_->vector_value(fe_values.quadrature_point(q), f_value);
-        f[0] = f_value[0];
-        f[1] = f_value[1];
-      } else {
-        f[1] = -density_ * gravity_;  // gravity along -y
-      }
-      const double JxW = fe_values.JxW(q);
-      for (unsigned i = 0; i < n; ++i) {
-        for (unsigned j = 0; j <= i; ++j)
-          cell_matrix(i, j) += (lambda_ * div[i] * div[j] + 2.0 * mu_ * (eps[i] * eps[j])) * JxW;
-        cell_rhs(i) += (phi[i] * f) * JxW;
-      }
-    }
-    for (unsigned i = 0; i < n; ++i)
-      for (unsigned j = i + 1; j < n; ++j) cell_matrix(i, j) = cell_matrix(j, i);
+    local_system(cell, fe_values, cell_matrix, cell_rhs);
     cell->get_dof_indices(dofs);
     constraints_.distribute_local_to_global(cell_matrix, cell_rhs, dofs, system_matrix_, system_rhs_);
   }
@@ -216,6 +223,34 @@ void ElasticProblem::compute_base_force() {
   result_.base_force_N = Utilities::MPI::sum(fy, comm_);
   result_.base_shear_force = Utilities::MPI::sum(fx, comm_);
   result_.weight = density_ * gravity_ * Utilities::MPI::sum(area, comm_);
+
+  // The consistent reaction: at a free dof the residual (A u - b)_i vanishes (to the solver's
+  // tolerance); the y-translation is in A's kernel, so the residuals' y-components sum to
+  // -sum_i b_i = the weight, and the base's constrained y-dofs carry all of it. Summed cell by
+  // cell over the cells that own a base y-dof.
+  const IndexSet base_y = DoFTools::extract_boundary_dofs(dof_handler_, fe_.component_mask(FEValuesExtractors::Scalar(1)),
+                                                          {static_cast<types::boundary_id>(mesh::BoundaryId::base)});
+  const QGaussSimplex<2> quadrature(fe_.degree + 1);
+  FEValues<2> fe_values(simplex_mapping(), fe_, quadrature,
+                        update_values | update_gradients | update_quadrature_points | update_JxW_values);
+  const unsigned n = fe_.n_dofs_per_cell();
+  FullMatrix<double> cell_matrix(n, n);
+  Vector<double> cell_rhs(n), cell_u(n), cell_residual(n);
+  std::vector<types::global_dof_index> dofs(n);
+  double reaction = 0;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned()) continue;
+    cell->get_dof_indices(dofs);
+    bool touches_base = false;
+    for (const auto d : dofs) touches_base = touches_base || (base_y.is_element(d) && constraints_.is_constrained(d));
+    if (!touches_base) continue;
+    local_system(cell, fe_values, cell_matrix, cell_rhs);
+    for (unsigned i = 0; i < n; ++i) cell_u(i) = solution_[dofs[i]];
+    cell_matrix.vmult(cell_residual, cell_u);
+    for (unsigned i = 0; i < n; ++i)
+      if (base_y.is_element(dofs[i]) && constraints_.is_constrained(dofs[i])) reaction += cell_residual(i) - cell_rhs(i);
+  }
+  result_.base_reaction_N = Utilities::MPI::sum(reaction, comm_);
 }
 
 ElasticProblem::Errors ElasticProblem::compute_errors(const Function<2>& exact) const {

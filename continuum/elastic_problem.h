@@ -33,7 +33,12 @@
 
 namespace pilelab::continuum {
 
-using ElasticResult = ModelResult;
+struct ElasticResult : ModelResult {
+  /// The vertical force the base's constraints exert, from the residual A u - b at the base's
+  /// constrained dofs (the consistent reaction): the weight up to the solver's tolerance on any
+  /// mesh, unlike base_force_N, the integral of the cells' stresses along the base (O(h^p)).
+  double base_reaction_N = 0;
+};
 
 class ElasticProblem {
  public:
@@ -78,6 +83,9 @@ class ElasticProblem {
   void assemble_system();
   void solve();
   void compute_base_force();
+  /// The cell's stiffness matrix and load vector, before constraints.
+  void local_system(const dealii::DoFHandler<2>::active_cell_iterator& cell, dealii::FEValues<2>& fe_values,
+                    dealii::FullMatrix<double>& cell_matrix, dealii::Vector<double>& cell_rhs) const;
   std::vector<dealii::PETScWrappers::MPI::Vector> rigid_body_modes() const;
   dealii::SymmetricTensor<2, 2> stress(const dealii::SymmetricTensor<2, 2>& strain) const;
 

@@ -145,6 +145,7 @@ nlohmann::json solve_elastic(const ContinuumSettings& s, const Triangulation2& t
   j["degree"] = e.degree;
   j["plane"] = e.plane == ElasticSettings::Plane::strain ? "strain" : "stress";
   j["base"] = e.base == ElasticSettings::Base::rough ? "rough" : "smooth";
+  j["base_reaction_over_weight"] = problem.result().base_reaction_N / problem.result().weight;
   j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
   j["poisson_ratio"] = e.poisson_ratio;
   j["gravity_change"] = e.gravity_change;

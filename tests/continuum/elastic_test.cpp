@@ -182,6 +182,23 @@ TEST(ElasticBlock, P1BaseForceConvergesToWeight) {
   EXPECT_GT(std::log2(err[1] / err[2]), 1 - 0.15);
 }
 
+// A 28 degree wedge 0.33 m high of two triangles, refined globally; base, left and right flank tagged.
+std::unique_ptr<Triangulation2> wedge_28_degrees(unsigned refinements) {
+  auto tria = make_triangulation(MPI_COMM_WORLD);
+  const double h = 0.33, L = h / std::tan(28 * M_PI / 180);
+  std::vector<Point<2>> v = {{-L, 0}, {0, 0}, {L, 0}, {0, h}};
+  std::vector<dealii::CellData<2>> cells(2, dealii::CellData<2>(3));
+  cells[0].vertices = {0, 1, 3};
+  cells[1].vertices = {1, 2, 3};
+  tria->create_triangulation(v, cells, {});
+  for (const auto& cell : tria->active_cell_iterators())
+    for (const auto f : cell->face_indices())
+      if (cell->face(f)->at_boundary())
+        cell->face(f)->set_boundary_id(std::abs(cell->face(f)->center()[1]) < 1e-12 ? 1 : cell->face(f)->center()[0] < 0 ? 2 : 3);
+  tria->refine_global(refinements);
+  return tria;
+}
+
 // The consistent reaction (the residual A u - b at the base's constrained dofs) is the weight on
 // any mesh, P1 included: the y-translation lies in A's kernel and every free dof's residual is
 // zero to the solver's tolerance (relative 1e-10 of |b|), while the integral of P1's constant
@@ -202,18 +219,7 @@ TEST(ElasticReaction, IsTheWeightOnCoarseP1Meshes) {
     EXPECT_NEAR(r.base_reaction_N / r.weight, 1.0, 1e-8);
     EXPECT_GT(std::abs(r.base_force_N / r.weight - 1), 1e-3);  // the trace is what the reaction improves on
   }
-  auto tria = make_triangulation(MPI_COMM_WORLD);
-  const double h = 0.33, L = h / std::tan(28 * M_PI / 180);
-  std::vector<Point<2>> v = {{-L, 0}, {0, 0}, {L, 0}, {0, h}};
-  std::vector<dealii::CellData<2>> cells(2, dealii::CellData<2>(3));
-  cells[0].vertices = {0, 1, 3};
-  cells[1].vertices = {1, 2, 3};
-  tria->create_triangulation(v, cells, {});
-  for (const auto& cell : tria->active_cell_iterators())
-    for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary())
-        cell->face(f)->set_boundary_id(std::abs(cell->face(f)->center()[1]) < 1e-12 ? 1 : cell->face(f)->center()[0] < 0 ? 2 : 3);
-  tria->refine_global(2);
+  auto tria = wedge_28_degrees(2);
   ElasticSettings s;
   s.degree = 1;
   ElasticProblem problem(*tria, s, rho, g);
@@ -223,18 +229,7 @@ TEST(ElasticReaction, IsTheWeightOnCoarseP1Meshes) {
 
 // The rough (clamped) and smooth bases both carry the weight of a wedge.
 TEST(ElasticWedge, BaseCarriesTheWeight) {
-  auto tria = make_triangulation(MPI_COMM_WORLD);
-  const double h = 0.33, L = h / std::tan(28 * M_PI / 180);
-  std::vector<Point<2>> v = {{-L, 0}, {0, 0}, {L, 0}, {0, h}};
-  std::vector<dealii::CellData<2>> cells(2, dealii::CellData<2>(3));
-  cells[0].vertices = {0, 1, 3};
-  cells[1].vertices = {1, 2, 3};
-  tria->create_triangulation(v, cells, {});
-  for (const auto& cell : tria->active_cell_iterators())
-    for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary())
-        cell->face(f)->set_boundary_id(std::abs(cell->face(f)->center()[1]) < 1e-12 ? 1 : cell->face(f)->center()[0] < 0 ? 2 : 3);
-  tria->refine_global(5);
+  auto tria = wedge_28_degrees(5);
   for (auto base : {ElasticSettings::Base::rough, ElasticSettings::Base::smooth}) {
     ElasticSettings s;
     s.base = base;

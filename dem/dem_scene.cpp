@@ -84,7 +84,7 @@ DemScene read_dem_scene(SceneReader& r) {
   const std::string history = r.get_choice("dem.contact.tangential_history", "spring", {"spring", "total"});
   c.tangential_history = history == "total" ? TangentialHistory::total : TangentialHistory::spring;
 
-  s.scheme = scheme_from_name(r.get_choice("dem.integrator.scheme", "gear5", {"gear5", "verlet", "leapfrog"}));
+  s.scheme = scheme_from_name(r.get_choice("dem.integrator.scheme", "leapfrog", {"gear5", "verlet", "leapfrog"}));
   s.time_step = r.get_double("dem.integrator.time_step_s", 0.0, Range::at_least(0.0));
   s.time_step_fraction = r.get_double("dem.integrator.time_step_fraction", s.time_step_fraction, {0.0, 1.0, true});
   s.allow_unstable_time_step = r.get_bool("dem.integrator.allow_unstable_time_step", false);

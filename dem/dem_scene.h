@@ -55,7 +55,7 @@ struct DemScene {
   double gravity = 9.81;          ///< [m/s^2]
   GrainSpec grains;
   ContactParameters contact;
-  Scheme scheme = Scheme::gear5;
+  Scheme scheme = Scheme::leapfrog;
   double time_step = 0.0;             ///< [s]; 0: time_step_fraction of the stability limit
   double time_step_fraction = 0.8;    ///< default dt as a fraction of the stable limit
   bool allow_unstable_time_step = false;

@@ -6,7 +6,7 @@ docs/studies/paper/.
     /usr/bin/python3 studies/paper/tables.py [ROOT] [--doc docs/studies/paper.md] [--figures DIR]
 
 ROOT (docs/studies/paper) holds a folder per ensemble (symmetric, asymmetric, monodisperse,
-asymmetric-travel-0.5),
+symmetric-paper-step, asymmetric-travel-0.5),
 each with the products of studies/paper/stages.py: products/ (fields.h5 with every pile's own
 fields in /piles/K, report.json, profiles.csv.gz, rve_study.csv.gz, scene.toml), and where they
 were made, products_rve_study/ (the RVE of the size the RVE study chooses) and
@@ -493,6 +493,10 @@ ENSEMBLES = {
     "symmetric": ("Symmetric piles (section 2)", 14, symmetric_rows),
     "asymmetric": ("Asymmetric piles (section 5, Fig. 11)", 7, asymmetric_rows),
     "monodisperse": ("Monodisperse piles (Fig. 16A, eq. 20)", 7, monodisperse_rows),
+    # Not the paper's: the symmetric scene at the paper's own 2e-6 s (Verlet), the confirmation of
+    # the default step on the paper pile (docs/studies/speed_accuracy.md); the count is its own.
+    "symmetric-paper-step": ("Symmetric piles at the paper's time step, 2e-6 s (the default step's confirmation)", 4,
+                             symmetric_rows),
     # Not the paper's: its asymmetric scene with the funnel travelling 0.5 R, where small piles
     # were asymmetric (docs/studies/funnel_scan.md); "the paper's count" is that of section 5.
     "asymmetric-travel-0.5": ("Asymmetric piles, the funnel travelling 0.5 R (docs/studies/funnel_scan.md)", 7,

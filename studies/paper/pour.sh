@@ -4,9 +4,9 @@
 # docs/studies/paper/<ensemble>/data count as poured, checkpointed ones continue.
 #
 #   bash studies/paper/pour.sh [ENSEMBLE...]     ENSEMBLE: symmetric, asymmetric, monodisperse,
-#                                                asymmetric-travel-0.5
+#                                                symmetric-paper-step, asymmetric-travel-0.5
 #
-# The ensembles run one after the other, in the order given (all four by default). For each:
+# The ensembles run one after the other, in the order given (all five by default). For each:
 # restore the archive into out/paper-<ensemble>/members, `pilelab run` the scene with -P
 # $PROCESSES -j 1 (which pours the missing members and then runs the later stages on all of
 # them), save the members back into the archive. Commit the archive afterwards.
@@ -21,7 +21,7 @@ if [[ -z ${PILELAB:-} ]]; then
   cp build/apps/pilelab "$PILELAB.tmp" && mv "$PILELAB.tmp" "$PILELAB"
 fi
 ensembles=("$@")
-((${#ensembles[@]})) || ensembles=(symmetric asymmetric monodisperse asymmetric-travel-0.5)
+((${#ensembles[@]})) || ensembles=(symmetric asymmetric monodisperse symmetric-paper-step asymmetric-travel-0.5)
 export OMP_WAIT_POLICY=passive
 for e in "${ensembles[@]}"; do
   scene=scenes/paper-$e.toml study=docs/studies/paper/$e out=out/paper-$e

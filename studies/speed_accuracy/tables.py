@@ -48,11 +48,18 @@ POOLED = "accurate_pooled"
 
 def pooled(a, b):
     """The numerical knobs' reference as the mean of its two realisations ("accurate" and
-    "accurate_b", the same seeds poured by builds that round differently): each seed's pile is
-    the mean of its two, each quantity and each leave-one-out value the mean of the two
-    ensembles'. Its noise is about 1/sqrt(2) of one realisation's, and a setting's difference
-    from it keeps the pairing by seed."""
+    "accurate_b", the same seeds poured by builds that round differently): each quantity and
+    each leave-one-out value is the mean of the two ensembles' (so its jackknife is that of the
+    mean of the two, paired by seed), each member's angles and costs the mean of its seed's two.
+    Its variance is down to half of one realisation's as far as the two are independent, and a
+    setting's difference from it keeps the pairing by seed. None where the two cannot be pooled
+    (other seeds, or base profiles on other bins)."""
     if not (paired(a, b) and "members" in a and "members" in b):
+        return None
+    if a["base_profile"]["x_over_R"] != b["base_profile"]["x_over_R"]:
+        return None
+    by_seed = {m["seed"]: m for m in b["members"]}
+    if sorted(by_seed) != sorted(m["seed"] for m in a["members"]):
         return None
 
     def mean_members(m, n):
@@ -77,14 +84,16 @@ def pooled(a, b):
         quantities[k] = [0.5 * (va + vb), se]
     pa, pb = a["base_profile"], b["base_profile"]
     profile = None
-    if pa["x_over_R"] == pb["x_over_R"] and "leave_one_out" in pa and "leave_one_out" in pb:
+    if "leave_one_out" in pa and "leave_one_out" in pb:
         ploo = np.array(mean_lists(pa["leave_one_out"], pb["leave_one_out"]))
         n = len(ploo)
         profile = {"x_over_R": pa["x_over_R"], "value": mean_lists(pa["value"], pb["value"]),
                    "stderr": np.sqrt((n - 1) / n * np.sum((ploo - ploo.mean(axis=0)) ** 2, axis=0)).tolist(),
                    "leave_one_out": ploo.tolist()}
+    if profile is None:
+        return None
     return {"name": POOLED, "knob": "reference", "value": "verlet, 2e-6 s: the mean of both realisations",
-            "seeds": a["seeds"], "members": [mean_members(m, n) for m, n in zip(a["members"], b["members"])],
+            "seeds": a["seeds"], "members": [mean_members(m, by_seed[m["seed"]]) for m in a["members"]],
             "quantities": quantities, "leave_one_out": loo, "base_profile": profile}
 
 

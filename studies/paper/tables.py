@@ -456,6 +456,13 @@ def asymmetric_rows(e):
     funnel (x' is measured from the apex, in each side's own half-width)."""
     r = Rows(e)
     r.repose({"left": 28.0, "right": 21.0}, {"left": "28", "right": "21", "pile_mean": "24.5 (mean of 28 and 21)"})
+    # The asymmetry pile by pile: each pile's flanks share its history, so their difference is
+    # far less noisy than the difference of the two flanks' ensemble means.
+    diff = np.array([m["repose_angle_left_deg"] - m["repose_angle_right_deg"] for m in e.report["ensemble"]["members"]])
+    se = float(np.std(diff, ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else np.nan
+    r.append(("repose angle, left minus right, pile by pile (deg)", "7 (28 - 21)", fmt(float(diff.mean()), se, 1),
+              ("left steeper (beyond 2 SE)" if diff.mean() > 2 * se else "right steeper (beyond 2 SE)" if diff.mean() < -2 * se
+               else "no asymmetry resolved") + "; SE over the piles' own differences"))
     r.base_dips((0.0, 0.1, 0.2, 0.3), under="the apex")
     r.base_plateau((0.0, 0.1), under="the apex")
     r.add_many("x'/R of the sigma_yy maxima at the base, left / right", "not given (asymmetric, Fig. 11)",

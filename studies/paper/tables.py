@@ -500,9 +500,9 @@ ENSEMBLES = {
     "symmetric": ("Symmetric piles (section 2)", 14, symmetric_rows),
     "asymmetric": ("Asymmetric piles (section 5, Fig. 11)", 7, asymmetric_rows),
     "monodisperse": ("Monodisperse piles (Fig. 16A, eq. 20)", 7, monodisperse_rows),
-    # Not the paper's: the symmetric scene at the paper's own 2e-6 s (Verlet), the confirmation of
-    # the default step on the paper pile (docs/studies/speed_accuracy.md); the count is its own.
-    "symmetric-paper-step": ("Symmetric piles at the paper's time step, 2e-6 s (the default step's confirmation)", 4,
+    # Not the paper's: the symmetric scene at the paper's own 2e-6 s (Verlet), the test of the
+    # default step on the paper pile (docs/studies/speed_accuracy.md); the count is its own.
+    "symmetric-paper-step": ("Symmetric piles at the paper's time step, 2e-6 s (the default step's test)", 4,
                              symmetric_rows),
     # Not the paper's: its asymmetric scene with the funnel travelling 0.5 R, where small piles
     # were asymmetric (docs/studies/funnel_scan.md); "the paper's count" is that of section 5.

@@ -83,15 +83,11 @@ def pooled(a, b):
         se = jackknife_se(np.array(loo[k])) if k in loo else (0.5 * float(np.hypot(sa, sb)) if sa is not None and sb is not None else None)
         quantities[k] = [0.5 * (va + vb), se]
     pa, pb = a["base_profile"], b["base_profile"]
-    profile = None
-    if "leave_one_out" in pa and "leave_one_out" in pb:
-        ploo = np.array(mean_lists(pa["leave_one_out"], pb["leave_one_out"]))
-        n = len(ploo)
-        profile = {"x_over_R": pa["x_over_R"], "value": mean_lists(pa["value"], pb["value"]),
-                   "stderr": np.sqrt((n - 1) / n * np.sum((ploo - ploo.mean(axis=0)) ** 2, axis=0)).tolist(),
-                   "leave_one_out": ploo.tolist()}
-    if profile is None:
+    if "leave_one_out" not in pa or "leave_one_out" not in pb:
         return None
+    ploo = np.array(mean_lists(pa["leave_one_out"], pb["leave_one_out"]))
+    profile = {"x_over_R": pa["x_over_R"], "value": mean_lists(pa["value"], pb["value"]),
+               "stderr": paper.jackknife_se(ploo).tolist(), "leave_one_out": ploo.tolist()}
     return {"name": POOLED, "knob": "reference", "value": "verlet, 2e-6 s: the mean of both realisations",
             "seeds": a["seeds"], "members": [mean_members(m, by_seed[m["seed"]]) for m in a["members"]],
             "quantities": quantities, "leave_one_out": loo, "base_profile": profile}
@@ -122,8 +118,7 @@ def paired(d, ref):
 
 
 def jackknife_se(leave_out):
-    n = len(leave_out)
-    return float(np.sqrt((n - 1) / n * np.sum((leave_out - leave_out.mean(axis=0)) ** 2, axis=0)))
+    return float(paper.jackknife_se(leave_out))
 
 
 def member_angle(m):

@@ -62,8 +62,8 @@ Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Ve
 /// overlaps, where the boundaries cross exactly twice, take a fast path (the chord joins the
 /// two crossings, the overlap is the polygon of the corners between them); everything else
 /// (deep or degenerate overlaps, nested shapes) is clipped.
-Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
-                         const Vec2& centroid_b, double longest_edge, OverlapHint& hint);
+inline Overlap overlap_polygons(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
+                                const Vec2& centroid_b, double longest_edge, OverlapHint& hint);
 
 /// Two polygons farther apart than this fraction of the longer of their longest edges never
 /// touch in overlap_polygons, whatever the hint: its tolerances (the clear margin of the fast
@@ -85,3 +85,6 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
 constexpr int max_polygon_corners = 64;
 
 }  // namespace pilelab::dem
+
+// The hinted overload, inline (the DEM's innermost loop).
+#include "dem/two_crossing_overlap.h"

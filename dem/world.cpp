@@ -5,6 +5,7 @@
 #include <iterator>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,6 +21,9 @@ namespace pilelab::dem {
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// Two doubles in one SSE2 register (GCC's and Clang's vector extension): element-wise
+// arithmetic, each lane rounded exactly as the scalar operation would be.
+using Double2 = double __attribute__((vector_size(16)));
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
 
@@ -33,6 +37,7 @@ int World::append_body(const Shape& shape, double mass, double inertia, bool act
   const int id = body_count();
   shapes_.push_back(shape);
   geometry_.push_back({shape.bounding_radius, shape.inner_radius, shape.longest_edge, shape.radius,
+                       vertex_offset_.back(), static_cast<std::int32_t>(shape.vertices.size()),
                        shape.kind == ShapeKind::disc});
   mass_.push_back(mass);
   inertia_.push_back(inertia);
@@ -113,7 +118,7 @@ void World::deactivate(int body) {
       const int q = body_pairs_[k] >> 1;
       if (pair_touching_[q]) --contact_count_;
       pair_touching_[q] = 0;
-      pair_load_[q] = {0.0, 0.0, {0.0, 0.0}};
+      end_load_[pair_ends_[2 * q]] = end_load_[pair_ends_[2 * q + 1]] = {0.0, 0.0, 0.0};
     }
   restored_contacts_.erase(std::remove_if(restored_contacts_.begin(), restored_contacts_.end(),
                                           [&](const Contact& c) { return c.a == body || c.b == body; }),
@@ -128,7 +133,8 @@ void World::restore_contacts(std::vector<Contact> contacts) {
   pair_touching_.clear();
   pair_hint_.clear();
   pair_apart_until_.clear();
-  pair_load_.clear();
+  end_load_.clear();
+  pair_ends_.clear();
   body_pair_start_.clear();
   body_pairs_.clear();
   neighbours_stale_ = true;
@@ -170,13 +176,17 @@ void World::restore_activity(const std::vector<std::uint8_t>& active) {
   const double th = motion_.d[0][3 * body + 2];
   double sn, c;
   rotation_sincos(th, sn, c);  // one reduction for both
-  const double px = motion_.d[0][3 * body], py = motion_.d[0][3 * body + 1];
-  // p + R(theta) v for each body-frame corner v (vec2.h's rotate, in plain doubles).
-  const Vec2* from = &body_vertices_[first];
-  Vec2* out = &world_vertices_[first];
+  // p + R(theta) v for each body-frame corner v, both coordinates in one register:
+  // (px, py) + vx (c, s) + vy (-s, c). The same bits as vec2.h's rotate: vy (-s) is -(s vy)
+  // exactly, and adding it is subtracting s vy.
+  const Double2 p = {motion_.d[0][3 * body], motion_.d[0][3 * body + 1]};
+  const Double2 first_column = {c, sn}, second_column = {-sn, c};
+  const double* from = body_vertices_[first].data();
+  double* out = world_vertices_[first].data();
   for (int k = 0; k < count; ++k) {
-    const double vx = from[k].x(), vy = from[k].y();
-    out[k] = Vec2(px + (c * vx - sn * vy), py + (sn * vx + c * vy));
+    const Double2 vx = {from[2 * k], from[2 * k]}, vy = {from[2 * k + 1], from[2 * k + 1]};
+    const Double2 placed = p + (vx * first_column + vy * second_column);
+    std::memcpy(out + 2 * k, &placed, sizeof placed);
   }
 }
 
@@ -439,7 +449,6 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
   pair_touching_.swap(touching);
   pair_hint_.swap(hint);
   pair_apart_until_.assign(n, 0.0);  // the proofs count from the last build's places
-  pair_load_.assign(n, PairLoad{0.0, 0.0, {0.0, 0.0}});
   contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
 }
 
@@ -453,11 +462,17 @@ void World::index_pairs_by_body() {
   }
   for (int i = 0; i < body_count(); ++i) body_pair_start_[i + 1] += body_pair_start_[i];
   body_pairs_.resize(2 * neighbours_.size());
+  pair_ends_.resize(2 * neighbours_.size());
   std::vector<int> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
   for (std::size_t q = 0; q < neighbours_.size(); ++q) {
-    body_pairs_[fill[static_cast<int>(neighbours_[q] >> 32)]++] = 2 * static_cast<int>(q);
-    body_pairs_[fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++] = 2 * static_cast<int>(q) + 1;
+    const int a_entry = fill[static_cast<int>(neighbours_[q] >> 32)]++;
+    const int b_entry = fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++;
+    body_pairs_[a_entry] = 2 * static_cast<int>(q);
+    body_pairs_[b_entry] = 2 * static_cast<int>(q) + 1;
+    pair_ends_[2 * q] = a_entry;
+    pair_ends_[2 * q + 1] = b_entry;
   }
+  end_load_.assign(body_pairs_.size(), EndLoad{0.0, 0.0, 0.0});
 }
 
 void World::collide_and_compute_forces() {
@@ -479,7 +494,6 @@ void World::collide_and_compute_forces() {
   const double* const inv_mass = inv_mass_.data();
   const double* const inv_inertia = inv_inertia_.data();
   const Vec2* const world_vertices = world_vertices_.data();
-  const int* const vertex_offset = vertex_offset_.data();
   const Vec2* const wall_lo = wall_lo_.data();
   const Vec2* const wall_hi = wall_hi_.data();
   const int wall_count = wall_count_;
@@ -489,7 +503,8 @@ void World::collide_and_compute_forces() {
   const double* const displacement = displacement_.data();
   const bool skip_separated = settings_.skip_separated_pairs;
   Contact* const pair_contact = pair_contact_.data();
-  PairLoad* const pair_load = pair_load_.data();
+  const int* const pair_ends = pair_ends_.data();
+  EndLoad* const end_load = end_load_.data();
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step. Dynamic chunks, since pairs that touch
@@ -498,29 +513,27 @@ void World::collide_and_compute_forces() {
   {
     double deepest = 0.0;
     std::size_t deepest_pair = n;
-#pragma omp for schedule(dynamic, 512) nowait
-    for (std::size_t q = 0; q < n; ++q) {
-      const bool touched = pair_touching[q] != 0;
-      pair_touching[q] = 0;
+    // One listed pair: its exact broad-phase test, its overlap, the contact law; true if it
+    // touches.
+    const auto collide_pair = [&](std::size_t q, bool touched) -> bool {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const bool a_is_wall = a < wall_count;
       const BodyGeometry& sa = geometry[a];
       const BodyGeometry& sb = geometry[b];
       const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
-      pair_load[q] = {0.0, 0.0, {0.0, 0.0}};
       // The exact broad-phase test: bounding circles, or a grain's circle against a wall's box.
       if (a_is_wall) {
-        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) continue;
+        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) return false;
       } else {
         const double r = sa.bounding_radius + sb.bounding_radius;
-        if ((pb - pa).squaredNorm() >= r * r) continue;
+        if ((pb - pa).squaredNorm() >= r * r) return false;
       }
       ++candidates;
 
       Overlap o;
-      const Vec2* const corners_a = world_vertices + vertex_offset[a];
-      const Vec2* const corners_b = world_vertices + vertex_offset[b];
-      const int count_a = vertex_offset[a + 1] - vertex_offset[a], count_b = vertex_offset[b + 1] - vertex_offset[b];
+      const Vec2* const corners_a = world_vertices + sa.first_corner;
+      const Vec2* const corners_b = world_vertices + sb.first_corner;
+      const int count_a = sa.corner_count, count_b = sb.corner_count;
       if (!sa.is_disc && !sb.is_disc) {
         // A pair proven apart stays apart until its corners have moved as far as the gap was.
         // Between two steps they moved at most the sum of their displacements from the list's
@@ -528,7 +541,7 @@ void World::collide_and_compute_forces() {
         const double moved = displacement[a] + displacement[b];
         if (moved < apart_until[q]) {
           ++proven_apart;
-          continue;
+          return false;
         }
         const double longest_edge = std::max(sa.longest_edge, sb.longest_edge);
         o = overlap_polygons(corners_a, count_a, pa, corners_b, count_b, pb, longest_edge, hints[q]);
@@ -539,7 +552,7 @@ void World::collide_and_compute_forces() {
                               sa.bounding_radius + sb.bounding_radius;
           const double spare = o.gap - (certain_separation * longest_edge + 1e-12 * size);
           apart_until[q] = spare > moved ? spare - moved : 0.0;
-          continue;
+          return false;
         }
       } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
@@ -549,7 +562,7 @@ void World::collide_and_compute_forces() {
         o = overlap_disc_polygon(pb, sb.radius, corners_a, count_a, pa);
         o.normal = -o.normal;
       }
-      if (!o.touching()) continue;
+      if (!o.touching()) return false;
 
       Contact& ct = pair_contact[q];
       const double old_spring = touched ? ct.spring : 0.0;
@@ -594,10 +607,10 @@ void World::collide_and_compute_forces() {
       ct.tangential_force = f.tangential;
       ct.area = o.area;
       ct.chord = o.chord;
-      pair_touching[q] = 1;
       // The force on b, normal_force n + tangential_force t, and its torques about both centroids.
       const double fx = f.normal * nx + f.tangential * -ny, fy = f.normal * ny + f.tangential * nx;
-      pair_load[q] = {fx, fy, {rax * fy - ray * fx, rbx * fy - rby * fx}};
+      end_load[pair_ends[2 * q + 1]] = {fx, fy, rbx * fy - rby * fx};
+      end_load[pair_ends[2 * q]] = {-fx, -fy, -(rax * fy - ray * fx)};
       ++touching_pairs;
       // The overlap is convex and the chord joins two points of its boundary, so no point of it
       // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
@@ -608,6 +621,16 @@ void World::collide_and_compute_forces() {
         deepest = fraction;
         deepest_pair = q;
       }
+      return true;
+    };
+#pragma omp for schedule(dynamic, 512) nowait
+    for (std::size_t q = 0; q < n; ++q) {
+      const bool touched = pair_touching[q] != 0;
+      const bool touching = collide_pair(q, touched);
+      pair_touching[q] = touching;
+      // A pair that does not touch leaves zero loads at its ends, which hold some only if it
+      // touched at the last step.
+      if (touched && !touching) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
     }
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && deepest_pair < step_deepest_pair)) {
@@ -625,28 +648,21 @@ void World::collide_and_compute_forces() {
   }
 }
 
-// Newton's third law, summed per body over its pairs in key order (the order of a serial loop
-// over the sorted pairs), so that the sums are the same whatever the threads. Pairs that do not
-// touch carry zeros, which leave a sum unchanged. Then each grain's acceleration (paper eq. 1)
-// and the corrector, and a check that the grain's state is still finite.
+// Each body's sum over its pairs in key order (the order of a serial loop over the sorted
+// pairs), so that the sums are the same whatever the threads; the pair loop gave the two ends
+// of a pair opposite forces (Newton's third law). Pairs that do not touch carry zeros, which
+// leave a sum unchanged. Then each grain's acceleration (paper eq. 1) and the corrector, and a
+// check that the grain's state is still finite.
 void World::gather_and_correct() {
   const int* const pair_start = body_pair_start_.data();
-  const int* const pairs = body_pairs_.data();
-  const PairLoad* const pair_load = pair_load_.data();
+  const EndLoad* const end_load = end_load_.data();
   double* const force_sum = contact_force_.data();
   const auto sum_over_pairs = [=](int i) {
     double fx = 0.0, fy = 0.0, torque = 0.0;
     for (int k = pair_start[i]; k < pair_start[i + 1]; ++k) {
-      // The body is the pair's b (the force acts on it as stored) or its a (the opposite
-      // force): x + (-1 * y) is x - y exactly, so a sign in place of a branch, which the
-      // processor could not predict (a body is a or b at random along its list).
-      const int entry = pairs[k];
-      const PairLoad& load = pair_load[entry >> 1];
-      const int is_b = entry & 1;
-      const double sign = static_cast<double>(2 * is_b - 1);
-      fx += sign * load.fx;
-      fy += sign * load.fy;
-      torque += sign * load.torque[is_b];
+      fx += end_load[k].fx;
+      fy += end_load[k].fy;
+      torque += end_load[k].torque;
     }
     force_sum[3 * i] = fx;
     force_sum[3 * i + 1] = fy;

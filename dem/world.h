@@ -182,6 +182,7 @@ class World {
   // What the pair loop needs of each body's shape, packed (the Shape keeps its vertices apart).
   struct BodyGeometry {
     double bounding_radius, inner_radius, longest_edge, radius;
+    std::int32_t first_corner, corner_count;  ///< its corners in world_vertices_ (none: a disc)
     bool is_disc;
   };
   std::vector<BodyGeometry> geometry_;
@@ -214,16 +215,17 @@ class World {
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.
   std::vector<double> pair_apart_until_;
-  // The force on b and the torques about both centroids, zero where the pair does not touch:
-  // what the gather reads, packed.
-  struct PairLoad {
-    double fx, fy;
-    double torque[2];  ///< about a's centroid, about b's
-  };
-  std::vector<PairLoad> pair_load_;
   // Each body's listed pairs in key order: body_pairs_ from body_pair_start_[i] to
-  // body_pair_start_[i + 1], each entry 2 q + (1 if the body is the pair's b).
-  std::vector<int> body_pair_start_, body_pairs_;
+  // body_pair_start_[i + 1], each entry 2 q + (1 if the body is the pair's b). pair_ends_[2 q]
+  // and [2 q + 1] are pair q's entries in that index, for its a and its b.
+  std::vector<int> body_pair_start_, body_pairs_, pair_ends_;
+  // What each entry of that index receives from its pair: the force on the body and the torque
+  // about its centroid, zero where the pair does not touch. The pair loop writes both ends of
+  // each pair; a body's sum then streams through its own entries.
+  struct alignas(32) EndLoad {  // 32 bytes: an entry is found by a shift, stored in two moves
+    double fx, fy, torque;
+  };
+  std::vector<EndLoad> end_load_;
   // Contacts restored from a checkpoint, taken into the list at its next build.
   std::vector<Contact> restored_contacts_;
   std::size_t contact_count_ = 0, candidate_count_ = 0, proven_apart_count_ = 0;

@@ -345,3 +345,25 @@ inline double separation_along_centres(const Vec2* a, int na, const Vec2& centro
 }
 
 }  // namespace pilelab::dem
+
+namespace pilelab::dem::two_crossing {
+
+// Four corner-in-edge contacts at once, in the lanes of 256-bit vectors (GCC's and Clang's
+// vector extension): for each lane the operations of corner_in_edge and two_crossing_result in
+// the same order, so the same bits, and ok false wherever either would return false (then the
+// caller answers that pair the scalar way). A lane is a corner c of one polygon, its neighbours
+// p0 and p2 (counter-clockwise p0, c, p2), the other polygon's edge e0 -> e1 and that polygon's
+// centroid; the chord runs from where p0 -> c crosses the edge to where c -> p2 does.
+using Double4 = double __attribute__((vector_size(32)));
+using Mask4 = std::int64_t __attribute__((vector_size(32)));
+struct CornerInEdgeBatch {
+  Double4 p0x, p0y, cx, cy, p2x, p2y, e0x, e0y, e1x, e1y, qx, qy, margin;
+  Mask4 chord_reversed;  ///< the chord from where c -> p2 crosses to where p0 -> c does (b's corner in a)
+};
+struct CornerInEdgeOverlaps {
+  Double4 area, chord, point_x, point_y, normal_x, normal_y;
+  Mask4 ok;
+};
+void corner_in_edge_x4(const CornerInEdgeBatch& in, CornerInEdgeOverlaps& out);
+
+}  // namespace pilelab::dem::two_crossing

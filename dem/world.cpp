@@ -24,6 +24,17 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 // Two doubles in one SSE2 register (GCC's and Clang's vector extension): element-wise
 // arithmetic, each lane rounded exactly as the scalar operation would be.
 using Double2 = double __attribute__((vector_size(16)));
+// A hint of a corner of one polygon in an edge of the other (two_crossing_overlap's first two
+// shapes), with edges that exist.
+bool corner_in_edge_hint(const OverlapHint& hint, int na, int nb) {
+  if (hint.kind != OverlapHint::crossing) return false;
+  const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
+  if (i >= na || j >= na || k >= nb || l >= nb) return false;
+  return (k == l && j == (i + 1 == na ? 0 : i + 1)) || (i == j && k == (l + 1 == nb ? 0 : l + 1));
+}
+// The pair loop's chunk: each thread takes chunks of this many listed pairs, batches their
+// corner-in-edge contacts, then applies the contact law to the chunk's touching pairs.
+constexpr std::size_t pair_chunk = 512;
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
 
@@ -505,6 +516,7 @@ void World::collide_and_compute_forces() {
   Contact* const pair_contact = pair_contact_.data();
   const int* const pair_ends = pair_ends_.data();
   EndLoad* const end_load = end_load_.data();
+  const std::size_t chunks = (n + pair_chunk - 1) / pair_chunk;
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step. Dynamic chunks, since pairs that touch
@@ -513,9 +525,84 @@ void World::collide_and_compute_forces() {
   {
     double deepest = 0.0;
     std::size_t deepest_pair = n;
-    // One listed pair: its exact broad-phase test, its overlap, the contact law; true if it
-    // touches.
-    const auto collide_pair = [&](std::size_t q, bool touched) -> bool {
+    // The overlap of polygon pair q the scalar way (convex_overlap.h), false if it does not
+    // touch; a pair found apart is proven so until its grains have moved as far as the gap.
+    const auto polygon_overlap = [&](std::size_t q, Overlap& o) -> bool {
+      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+      const BodyGeometry& sa = geometry[a];
+      const BodyGeometry& sb = geometry[b];
+      const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
+      const double longest_edge = std::max(sa.longest_edge, sb.longest_edge);
+      o = overlap_polygons(world_vertices + sa.first_corner, sa.corner_count, pa, world_vertices + sb.first_corner,
+                           sb.corner_count, pb, longest_edge, hints[q]);
+      if (o.touching()) return true;
+      if (skip_separated) {
+        // The gap must stay above certain_separation, plus the round-off of the corners'
+        // coordinates (a few ulp of their size, here bounded far above).
+        const double moved = displacement[a] + displacement[b];
+        const double size = std::abs(pa.x()) + std::abs(pa.y()) + std::abs(pb.x()) + std::abs(pb.y()) +
+                            sa.bounding_radius + sb.bounding_radius;
+        const double spare = o.gap - (certain_separation * longest_edge + 1e-12 * size);
+        apart_until[q] = spare > moved ? spare - moved : 0.0;
+      }
+      return false;
+    };
+    // The pairs whose hint is a corner of one polygon in an edge of the other, four at a time
+    // (two_crossing::corner_in_edge_x4); each pair's overlap to done(q, overlap), or a null
+    // overlap where the batch could not prove it.
+    const auto batched_corner_in_edge = [&](const std::vector<std::size_t>& pairs, auto&& done) {
+      two_crossing::CornerInEdgeBatch in;
+      two_crossing::CornerInEdgeOverlaps out;
+      bool corner_of_b[4];
+      for (std::size_t first = 0; first < pairs.size(); first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, pairs.size() - first);
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+          const std::size_t q = pairs[first + std::min(lane, lanes - 1)];  // spare lanes repeat the last
+          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+          const BodyGeometry& sa = geometry[a];
+          const BodyGeometry& sb = geometry[b];
+          const Vec2* const ca = world_vertices + sa.first_corner;
+          const Vec2* const cb = world_vertices + sb.first_corner;
+          const int i = hints[q].edge[0], k = hints[q].edge[1], j = hints[q].edge[2], l = hints[q].edge[3];
+          // a's corner j in b's edge k, or b's corner k in a's edge i (two_crossing_overlap).
+          corner_of_b[lane] = k != l;
+          const Vec2 *p0, *c, *p2, *e0, *e1;
+          int centre;
+          if (!corner_of_b[lane]) {
+            p0 = &ca[i], c = &ca[j], p2 = &ca[two_crossing::next_index(j, sa.corner_count)];
+            e0 = &cb[k], e1 = &cb[two_crossing::next_index(k, sb.corner_count)], centre = b;
+          } else {
+            p0 = &cb[l], c = &cb[k], p2 = &cb[two_crossing::next_index(k, sb.corner_count)];
+            e0 = &ca[i], e1 = &ca[two_crossing::next_index(i, sa.corner_count)], centre = a;
+          }
+          in.p0x[lane] = p0->x(), in.p0y[lane] = p0->y(), in.cx[lane] = c->x(), in.cy[lane] = c->y();
+          in.p2x[lane] = p2->x(), in.p2y[lane] = p2->y(), in.e0x[lane] = e0->x(), in.e0y[lane] = e0->y();
+          in.e1x[lane] = e1->x(), in.e1y[lane] = e1->y(), in.qx[lane] = x[3 * centre], in.qy[lane] = x[3 * centre + 1];
+          in.margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
+          in.chord_reversed[lane] = corner_of_b[lane] ? -1 : 0;
+        }
+        two_crossing::corner_in_edge_x4(in, out);
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+          if (!out.ok[lane]) {
+            done(pairs[first + lane], nullptr);
+            continue;
+          }
+          // two_crossing_result's overlap (for b's corner the chord runs from X_out to X_in).
+          Overlap o;
+          o.area = out.area[lane];
+          o.chord = out.chord[lane];
+          o.point = Vec2(out.point_x[lane], out.point_y[lane]);
+          o.normal = Vec2(out.normal_x[lane], out.normal_y[lane]);
+          o.crossings = 2;
+          done(pairs[first + lane], &o);
+        }
+      }
+    };
+    // One listed pair's narrow phase: its exact broad-phase test and its overlap, o. Returns
+    // apart, overlap (o holds it) or deferred: a corner-in-edge contact by its hint, left to
+    // the batch.
+    enum Narrow : std::uint8_t { apart, overlap, deferred };
+    const auto narrow = [&](std::size_t q, Overlap& o) -> Narrow {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const bool a_is_wall = a < wall_count;
       const BodyGeometry& sa = geometry[a];
@@ -523,14 +610,13 @@ void World::collide_and_compute_forces() {
       const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
       // The exact broad-phase test: bounding circles, or a grain's circle against a wall's box.
       if (a_is_wall) {
-        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) return false;
+        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) return apart;
       } else {
         const double r = sa.bounding_radius + sb.bounding_radius;
-        if ((pb - pa).squaredNorm() >= r * r) return false;
+        if ((pb - pa).squaredNorm() >= r * r) return apart;
       }
       ++candidates;
 
-      Overlap o;
       const Vec2* const corners_a = world_vertices + sa.first_corner;
       const Vec2* const corners_b = world_vertices + sb.first_corner;
       const int count_a = sa.corner_count, count_b = sb.corner_count;
@@ -541,19 +627,10 @@ void World::collide_and_compute_forces() {
         const double moved = displacement[a] + displacement[b];
         if (moved < apart_until[q]) {
           ++proven_apart;
-          return false;
+          return apart;
         }
-        const double longest_edge = std::max(sa.longest_edge, sb.longest_edge);
-        o = overlap_polygons(corners_a, count_a, pa, corners_b, count_b, pb, longest_edge, hints[q]);
-        if (!o.touching() && skip_separated) {
-          // The gap must stay above certain_separation, plus the round-off of the corners'
-          // coordinates (a few ulp of their size, here bounded far above).
-          const double size = std::abs(pa.x()) + std::abs(pa.y()) + std::abs(pb.x()) + std::abs(pb.y()) +
-                              sa.bounding_radius + sb.bounding_radius;
-          const double spare = o.gap - (certain_separation * longest_edge + 1e-12 * size);
-          apart_until[q] = spare > moved ? spare - moved : 0.0;
-          return false;
-        }
+        if (corner_in_edge_hint(hints[q], count_a, count_b)) return deferred;
+        if (!polygon_overlap(q, o)) return apart;
       } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
       } else if (sa.is_disc) {
@@ -562,8 +639,16 @@ void World::collide_and_compute_forces() {
         o = overlap_disc_polygon(pb, sb.radius, corners_a, count_a, pa);
         o.normal = -o.normal;
       }
-      if (!o.touching()) return false;
+      return o.touching() ? overlap : apart;
+    };
 
+    // The contact law of a pair that touches, its loads and the deepest overlap.
+    const auto apply_contact_law = [&](std::size_t q, bool touched, const Overlap& o) {
+      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+      const bool a_is_wall = a < wall_count;
+      const BodyGeometry& sa = geometry[a];
+      const BodyGeometry& sb = geometry[b];
+      const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
       Contact& ct = pair_contact[q];
       const double old_spring = touched ? ct.spring : 0.0;
       const double old_nx = touched ? ct.normal.x() : 0.0, old_ny = touched ? ct.normal.y() : 0.0;
@@ -623,14 +708,35 @@ void World::collide_and_compute_forces() {
       }
       return true;
     };
-#pragma omp for schedule(dynamic, 512) nowait
-    for (std::size_t q = 0; q < n; ++q) {
-      const bool touched = pair_touching[q] != 0;
-      const bool touching = collide_pair(q, touched);
-      pair_touching[q] = touching;
-      // A pair that does not touch leaves zero loads at its ends, which hold some only if it
-      // touched at the last step.
-      if (touched && !touching) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+    std::vector<Overlap> overlaps(pair_chunk);
+    std::vector<std::uint8_t> outcome(pair_chunk);
+    std::vector<std::size_t> batch;
+    batch.reserve(pair_chunk);
+#pragma omp for schedule(dynamic, 1) nowait
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+      const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
+      batch.clear();
+      for (std::size_t q = first; q < last; ++q) {
+        outcome[q - first] = narrow(q, overlaps[q - first]);
+        if (outcome[q - first] == deferred) batch.push_back(q);
+      }
+      batched_corner_in_edge(batch, [&](std::size_t q, const Overlap* o) {
+        Overlap& slot = overlaps[q - first];
+        if (o)
+          slot = *o;
+        else if (!polygon_overlap(q, slot))
+          slot = Overlap{};
+        outcome[q - first] = slot.touching() ? overlap : apart;
+      });
+      for (std::size_t q = first; q < last; ++q) {
+        const bool touched = pair_touching[q] != 0;
+        const bool touching = outcome[q - first] == overlap;
+        if (touching) apply_contact_law(q, touched, overlaps[q - first]);
+        pair_touching[q] = touching;
+        // A pair that does not touch leaves zero loads at its ends, which hold some only if it
+        // touched at the last step.
+        if (touched && !touching) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+      }
     }
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && deepest_pair < step_deepest_pair)) {

@@ -24,6 +24,7 @@
 #include <iterator>
 #include <limits>
 #include <list>
+#include <random>
 #include <vector>
 
 #include "common/rng.h"
@@ -1194,6 +1195,82 @@ TEST(DiscPolygonOverlap, RandomPairsLieBetweenInscribedAndCircumscribedPolygons)
   if (!HasFailure()) {
     EXPECT_GT(two_crossings, 100);
   }
+}
+
+}  // namespace
+}  // namespace pilelab::dem
+
+namespace pilelab::dem {
+namespace {
+
+// The batched corner-in-edge kernel gives the scalar fast path's overlap bit for bit wherever it
+// accepts a lane, and accepts the shallow contacts a pile is made of: two hexagons with a
+// corner of one pushed into an edge of the other (either polygon's corner, either lane order).
+TEST(ConvexOverlap, BatchedCornerInEdgeMatchesTheScalarPathBitForBit) {
+  std::mt19937_64 random(2010);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const auto hexagon = [](Vec2 centre, double radius, double angle) {
+    std::vector<Vec2> corners;
+    for (int k = 0; k < 6; ++k)
+      corners.push_back(centre + radius * Vec2(std::cos(angle + k * M_PI / 3), std::sin(angle + k * M_PI / 3)));
+    return corners;
+  };
+  int cases = 0, accepted = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double radius = 3e-3;
+    const Vec2 ca(0.3 + 0.1 * uniform(random), 0.1 + 0.1 * uniform(random));
+    const double angle_a = 2 * M_PI * uniform(random);
+    // b's inner radius is radius cos 30 deg; a's corner at angle 0 pokes into b by depth.
+    const double depth = 1e-6 + 2e-5 * uniform(random);
+    const Vec2 towards(std::cos(angle_a), std::sin(angle_a));
+    const Vec2 cb = ca + (radius + radius * std::cos(M_PI / 6) - depth) * towards;
+    const double face = std::atan2(-towards.y(), -towards.x()) + M_PI / 6;  // a face of b towards a
+    const auto a = hexagon(ca, radius, angle_a);
+    const auto b = hexagon(cb, radius, face + 0.2 * (uniform(random) - 0.5));
+    const bool swap = trial % 2 == 1;  // half the cases: b's corner in a's edge
+    const auto& p = swap ? b : a;
+    const auto& q = swap ? a : b;
+    const Vec2 cp = swap ? cb : ca, cq = swap ? ca : cb;
+    OverlapHint hint;
+    overlap_polygons(p.data(), 6, cp, q.data(), 6, cq, radius, hint);  // finds the edges
+    const Overlap scalar = overlap_polygons(p.data(), 6, cp, q.data(), 6, cq, radius, hint);
+    if (hint.kind != OverlapHint::crossing) continue;
+    const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
+    const bool corner_of_p = k == l && j == (i + 1) % 6, corner_of_q = i == j && k == (l + 1) % 6;
+    if (!corner_of_p && !corner_of_q) continue;
+    ++cases;
+    two_crossing::CornerInEdgeBatch in;
+    const auto& corner_polygon = corner_of_p ? p : q;
+    const auto& edge_polygon = corner_of_p ? q : p;
+    const int before = corner_of_p ? i : l, corner = corner_of_p ? j : k, edge = corner_of_p ? k : i;
+    const Vec2 centre = corner_of_p ? cq : cp;
+    for (int lane = 0; lane < 4; ++lane) {
+      in.p0x[lane] = corner_polygon[before].x(), in.p0y[lane] = corner_polygon[before].y();
+      in.cx[lane] = corner_polygon[corner].x(), in.cy[lane] = corner_polygon[corner].y();
+      in.p2x[lane] = corner_polygon[(corner + 1) % 6].x(), in.p2y[lane] = corner_polygon[(corner + 1) % 6].y();
+      in.e0x[lane] = edge_polygon[edge].x(), in.e0y[lane] = edge_polygon[edge].y();
+      in.e1x[lane] = edge_polygon[(edge + 1) % 6].x(), in.e1y[lane] = edge_polygon[(edge + 1) % 6].y();
+      in.qx[lane] = centre.x(), in.qy[lane] = centre.y();
+      in.margin[lane] = two_crossing::clear_margin * radius;
+      in.chord_reversed[lane] = corner_of_q ? -1 : 0;
+    }
+    two_crossing::CornerInEdgeOverlaps out;
+    two_crossing::corner_in_edge_x4(in, out);
+    for (int lane = 0; lane < 4; ++lane) {
+      if (!out.ok[lane]) continue;
+      ++accepted;
+      const double batch[6] = {out.area[lane], out.chord[lane], out.point_x[lane], out.point_y[lane],
+                               out.normal_x[lane], out.normal_y[lane]};
+      const double reference[6] = {scalar.area, scalar.chord, scalar.point.x(), scalar.point.y(), scalar.normal.x(),
+                                   scalar.normal.y()};
+      for (int m = 0; m < 6; ++m)
+        ASSERT_EQ(std::memcmp(&batch[m], &reference[m], sizeof(double)), 0)
+            << "trial " << trial << " value " << m << ": " << batch[m] << " against " << reference[m];
+    }
+  }
+  // Most generated pairs are corner-in-edge contacts, and the batch proves them all.
+  EXPECT_GT(cases, 1000);
+  EXPECT_EQ(accepted, 4 * cases);
 }
 
 }  // namespace

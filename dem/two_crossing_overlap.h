@@ -348,6 +348,15 @@ inline double separation_along_centres(const Vec2* a, int na, const Vec2& centro
 
 namespace pilelab::dem::two_crossing {
 
+// A hint of a corner of one polygon in an edge of the other, with edges that exist: the first
+// two shapes of two_crossing_overlap, which corner_in_edge_x4 answers.
+inline bool corner_in_edge_hint(const OverlapHint& hint, int na, int nb) {
+  if (hint.kind != OverlapHint::crossing) return false;
+  const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
+  if (i >= na || j >= na || k >= nb || l >= nb) return false;
+  return (k == l && j == next_index(i, na)) || (i == j && k == next_index(l, nb));
+}
+
 // Four corner-in-edge contacts at once, in the lanes of 256-bit vectors (GCC's and Clang's
 // vector extension): for each lane the operations of corner_in_edge and two_crossing_result in
 // the same order, so the same bits, and ok false wherever either would return false (then the

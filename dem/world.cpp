@@ -24,14 +24,6 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 // Two doubles in one SSE2 register (GCC's and Clang's vector extension): element-wise
 // arithmetic, each lane rounded exactly as the scalar operation would be.
 using Double2 = double __attribute__((vector_size(16)));
-// A hint of a corner of one polygon in an edge of the other (two_crossing_overlap's first two
-// shapes), with edges that exist.
-bool corner_in_edge_hint(const OverlapHint& hint, int na, int nb) {
-  if (hint.kind != OverlapHint::crossing) return false;
-  const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
-  if (i >= na || j >= na || k >= nb || l >= nb) return false;
-  return (k == l && j == (i + 1 == na ? 0 : i + 1)) || (i == j && k == (l + 1 == nb ? 0 : l + 1));
-}
 // The pair loop's chunk: each thread takes chunks of this many listed pairs, batches their
 // corner-in-edge contacts, then applies the contact law to the chunk's touching pairs.
 constexpr std::size_t pair_chunk = 512;
@@ -629,7 +621,7 @@ void World::collide_and_compute_forces() {
           ++proven_apart;
           return apart;
         }
-        if (corner_in_edge_hint(hints[q], count_a, count_b)) return deferred;
+        if (two_crossing::corner_in_edge_hint(hints[q], count_a, count_b)) return deferred;
         if (!polygon_overlap(q, o)) return apart;
       } else if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);

@@ -525,8 +525,7 @@ void corner_in_edge_x4(const CornerInEdgeBatch& in, CornerInEdgeOverlaps& out) {
   // -(out - in), which differs where the two are equal (+0 against -0).
   const Double4 lx = in.chord_reversed ? inx - outx : outx - inx, ly = in.chord_reversed ? iny - outy : outy - iny;
   const Double4 chord2 = lx * lx + ly * ly;
-  Double4 chord;
-  for (int k = 0; k < 4; ++k) chord[k] = std::sqrt(chord2[k]);
+  const Double4 chord = lane_sqrt(chord2);
   ok &= chord > in.margin;
   out.ok = ok;
   out.area = area;

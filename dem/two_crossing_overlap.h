@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "dem/convex_overlap.h"
+#include "dem/four_lanes.h"
 #include "dem/vec2.h"
 
 namespace pilelab::dem {
@@ -357,14 +358,11 @@ inline bool corner_in_edge_hint(const OverlapHint& hint, int na, int nb) {
   return (k == l && j == next_index(i, na)) || (i == j && k == next_index(l, nb));
 }
 
-// Four corner-in-edge contacts at once, in the lanes of 256-bit vectors (GCC's and Clang's
-// vector extension): for each lane the operations of corner_in_edge and two_crossing_result in
+// Four corner-in-edge contacts at once, in the lanes of 256-bit vectors (four_lanes.h): for each lane the operations of corner_in_edge and two_crossing_result in
 // the same order, so the same bits, and ok false wherever either would return false (then the
 // caller answers that pair the scalar way). A lane is a corner c of one polygon, its neighbours
 // p0 and p2 (counter-clockwise p0, c, p2), the other polygon's edge e0 -> e1 and that polygon's
 // centroid; the chord runs from where p0 -> c crosses the edge to where c -> p2 does.
-using Double4 = double __attribute__((vector_size(32)));
-using Mask4 = std::int64_t __attribute__((vector_size(32)));
 struct CornerInEdgeBatch {
   Double4 p0x, p0y, cx, cy, p2x, p2y, e0x, e0y, e1x, e1y, qx, qy, margin;
   Mask4 chord_reversed;  ///< the chord from where c -> p2 crosses to where p0 -> c does (b's corner in a)

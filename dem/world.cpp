@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "common/portable_math.h"
+#include "dem/contact_law_x4.h"
 #include "dem/convex_overlap.h"
 
 #ifdef _OPENMP
@@ -634,76 +635,73 @@ void World::collide_and_compute_forces() {
       return o.touching() ? overlap : apart;
     };
 
-    // The contact law of a pair that touches, its loads and the deepest overlap.
-    const auto apply_contact_law = [&](std::size_t q, bool touched, const Overlap& o) {
-      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-      const bool a_is_wall = a < wall_count;
-      const BodyGeometry& sa = geometry[a];
-      const BodyGeometry& sb = geometry[b];
-      const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
-      Contact& ct = pair_contact[q];
-      const double old_spring = touched ? ct.spring : 0.0;
-      const double old_nx = touched ? ct.normal.x() : 0.0, old_ny = touched ? ct.normal.y() : 0.0;
-      // The kinematics at the force point, in plain doubles (the vector forms of vec2.h cost
-      // packing in this loop; the same operations in the same order).
-      const double nx = o.normal.x(), ny = o.normal.y();
-      const double rax = o.point.x() - pa.x(), ray = o.point.y() - pa.y();
-      const double rbx = o.point.x() - pb.x(), rby = o.point.y() - pb.y();
-      const double wa = v[3 * a + 2], wb = v[3 * b + 2];
-      const double uax = v[3 * a] + -wa * ray, uay = v[3 * a + 1] + wa * rax;
-      const double ubx = v[3 * b] + -wb * rby, uby = v[3 * b + 1] + wb * rbx;
-      const double dux = uax - ubx, duy = uay - uby;
-      const double ra2 = rax * rax + ray * ray, rb2 = rbx * rbx + rby * rby;
-      ContactKinematics k;
-      k.area = o.area;
-      k.chord = o.chord;
-      // A wall is flat on the grain's scale: its lever is infinite, so that l is the grain's lever
-      // (the paper's formula for r_j -> infinity) wherever along the wall the grain touches, rather
-      // than depending on the distance to the wall's centroid.
-      k.lever_a = a_is_wall ? INFINITY : std::max(std::sqrt(ra2), 0.5 * sa.inner_radius);
-      k.lever_b = std::max(std::sqrt(rb2), 0.5 * sb.inner_radius);
-      k.approach_speed = nx * dux + ny * duy;
-      k.slip_speed = -ny * dux + nx * duy;  // along t = perp(n)
-      const double inverse_masses = inv_mass[a] + inv_mass[b];
-      k.normal_mass = 1.0 / inverse_masses;
-      k.tangential_mass = 1.0 / (inverse_masses + ra2 * inv_inertia[a] + rb2 * inv_inertia[b]);
-      const double l = contact_length(law, k.lever_a, k.lever_b);
-      // The spring is a vector in the contact plane: as the normal turns, keep its projection on
-      // the new tangent (t_old . t_new = n_old . n_new); a contact that turned by more than 60
-      // degrees in one step (a jump to another edge) starts afresh.
-      const double turn = old_nx * nx + old_ny * ny;
-      const double spring = turn > 0.5 ? turn * old_spring : 0.0;
-      const ContactForce f = dem::contact_force(law, k, l, spring, dt);
-
-      ct.a = a;
-      ct.b = b;
-      ct.spring = f.spring;
-      ct.point = o.point;
-      ct.normal = o.normal;
-      ct.normal_force = f.normal;
-      ct.tangential_force = f.tangential;
-      ct.area = o.area;
-      ct.chord = o.chord;
-      // The force on b, normal_force n + tangential_force t, and its torques about both centroids.
-      const double fx = f.normal * nx + f.tangential * -ny, fy = f.normal * ny + f.tangential * nx;
-      end_load[pair_ends[2 * q + 1]] = {fx, fy, rbx * fy - rby * fx};
-      end_load[pair_ends[2 * q]] = {-fx, -fy, -(rax * fy - ray * fx)};
-      ++touching_pairs;
-      // The overlap is convex and the chord joins two points of its boundary, so no point of it
-      // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
-      const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
-      const double inner = a_is_wall ? sb.inner_radius : std::min(sa.inner_radius, sb.inner_radius);
-      const double fraction = depth / inner;
-      if (fraction > deepest || (fraction == deepest && q < deepest_pair)) {
-        deepest = fraction;
-        deepest_pair = q;
+    // The contact law of touching pairs, four at a time (contact_law_x4), given each pair's
+    // overlap and whether it touched at the last step (whose spring it then continues); their
+    // loads and the deepest overlap. Spare lanes repeat the last pair and are not stored.
+    const auto apply_contact_law = [&](const std::vector<std::size_t>& pairs, const Overlap* overlaps,
+                                       const std::uint8_t* touched, std::size_t first_pair) {
+      ContactLanes in;
+      ContactLaneForces out;
+      for (std::size_t first = 0; first < pairs.size(); first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, pairs.size() - first);
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+          const std::size_t q = pairs[first + std::min(lane, lanes - 1)];
+          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+          const Overlap& o = overlaps[q - first_pair];
+          const Contact& ct = pair_contact[q];
+          const bool continues = touched[q - first_pair] != 0;
+          in.area[lane] = o.area, in.chord[lane] = o.chord;
+          in.point_x[lane] = o.point.x(), in.point_y[lane] = o.point.y();
+          in.normal_x[lane] = o.normal.x(), in.normal_y[lane] = o.normal.y();
+          in.centre_a_x[lane] = x[3 * a], in.centre_a_y[lane] = x[3 * a + 1];
+          in.centre_b_x[lane] = x[3 * b], in.centre_b_y[lane] = x[3 * b + 1];
+          in.velocity_a_x[lane] = v[3 * a], in.velocity_a_y[lane] = v[3 * a + 1], in.spin_a[lane] = v[3 * a + 2];
+          in.velocity_b_x[lane] = v[3 * b], in.velocity_b_y[lane] = v[3 * b + 1], in.spin_b[lane] = v[3 * b + 2];
+          in.inverse_mass_a[lane] = inv_mass[a], in.inverse_mass_b[lane] = inv_mass[b];
+          in.inverse_inertia_a[lane] = inv_inertia[a], in.inverse_inertia_b[lane] = inv_inertia[b];
+          in.lever_floor_a[lane] = 0.5 * geometry[a].inner_radius;
+          in.lever_floor_b[lane] = 0.5 * geometry[b].inner_radius;
+          in.a_is_wall[lane] = a < wall_count ? -1 : 0;
+          in.old_spring[lane] = continues ? ct.spring : 0.0;
+          in.old_normal_x[lane] = continues ? ct.normal.x() : 0.0;
+          in.old_normal_y[lane] = continues ? ct.normal.y() : 0.0;
+        }
+        contact_law_x4(law, dt, in, out);
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+          const std::size_t q = pairs[first + lane];
+          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+          const Overlap& o = overlaps[q - first_pair];
+          Contact& ct = pair_contact[q];
+          ct.a = a;
+          ct.b = b;
+          ct.spring = out.spring[lane];
+          ct.point = o.point;
+          ct.normal = o.normal;
+          ct.normal_force = out.normal[lane];
+          ct.tangential_force = out.tangential[lane];
+          ct.area = o.area;
+          ct.chord = o.chord;
+          end_load[pair_ends[2 * q + 1]] = {out.force_x[lane], out.force_y[lane], out.torque_b[lane]};
+          end_load[pair_ends[2 * q]] = {-out.force_x[lane], -out.force_y[lane], out.torque_a[lane]};
+          // The overlap is convex and the chord joins two points of its boundary, so no point of
+          // it lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
+          const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
+          const double inner = a < wall_count ? geometry[b].inner_radius
+                                              : std::min(geometry[a].inner_radius, geometry[b].inner_radius);
+          const double fraction = depth / inner;
+          if (fraction > deepest || (fraction == deepest && q < deepest_pair)) {
+            deepest = fraction;
+            deepest_pair = q;
+          }
+        }
+        touching_pairs += lanes;
       }
-      return true;
     };
     std::vector<Overlap> overlaps(pair_chunk);
-    std::vector<std::uint8_t> outcome(pair_chunk);
-    std::vector<std::size_t> batch;
+    std::vector<std::uint8_t> outcome(pair_chunk), touched(pair_chunk);
+    std::vector<std::size_t> batch, touching;
     batch.reserve(pair_chunk);
+    touching.reserve(pair_chunk);
 #pragma omp for schedule(dynamic, 1) nowait
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
       const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
@@ -720,15 +718,16 @@ void World::collide_and_compute_forces() {
           slot = Overlap{};
         outcome[q - first] = slot.touching() ? overlap : apart;
       });
+      touching.clear();
       for (std::size_t q = first; q < last; ++q) {
-        const bool touched = pair_touching[q] != 0;
-        const bool touching = outcome[q - first] == overlap;
-        if (touching) apply_contact_law(q, touched, overlaps[q - first]);
-        pair_touching[q] = touching;
-        // A pair that does not touch leaves zero loads at its ends, which hold some only if it
-        // touched at the last step.
-        if (touched && !touching) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+        touched[q - first] = pair_touching[q];
+        pair_touching[q] = outcome[q - first] == overlap;
+        if (pair_touching[q])
+          touching.push_back(q);
+        else if (touched[q - first])  // zero loads at its ends, which held some only if it touched
+          end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
       }
+      apply_contact_law(touching, overlaps.data(), touched.data(), first);
     }
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && deepest_pair < step_deepest_pair)) {

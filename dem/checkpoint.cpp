@@ -68,9 +68,10 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
   write_atomically(path, [&](const std::string& tmp) {
     H5File f = H5File::create(tmp);
     f.write_string("/scene", scene_text);
-    const MotionState& m = world.motion();
+    const MotionState m = world.motion_state();
     for (int k = 0; k < 6; ++k) f.write("/world/d" + std::to_string(k), m.d[k]);
-    std::vector<std::int64_t> active(world.activity().begin(), world.activity().end());
+    const std::vector<std::uint8_t> activity = world.activity();
+    std::vector<std::int64_t> active(activity.begin(), activity.end());
     f.write("/world/active", active);
     f.set_attribute("/world", "time_s", world.time());
     f.set_attribute("/world", "steps", world.steps());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iterator>
+#include <numeric>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -30,6 +31,9 @@ using Double2 = double __attribute__((vector_size(16)));
 constexpr std::size_t pair_chunk = 512;
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
+// How often the bodies take the order of their place (at the first list build after this many
+// steps): sorting and moving them costs about ten steps.
+constexpr std::int64_t ordering_interval_steps = 2000;
 
 }  // namespace
 
@@ -38,10 +42,12 @@ World::World(const WorldSettings& settings) : settings_(settings) {}
 int World::append_body(const Shape& shape, double mass, double inertia, bool active) {
   if (static_cast<int>(shape.vertices.size()) > max_polygon_corners)
     throw std::invalid_argument("World: polygons have at most 64 corners");
-  const int id = body_count();
+  const int id = body_count();  // and its slot, at the end
+  slot_of_.push_back(id);
+  body_at_.push_back(id);
   shapes_.push_back(shape);
   geometry_.push_back({shape.bounding_radius, shape.inner_radius, shape.longest_edge, shape.radius,
-                       vertex_offset_.back(), static_cast<std::int32_t>(shape.vertices.size()),
+                       static_cast<std::int32_t>(body_vertices_.size()), static_cast<std::int32_t>(shape.vertices.size()),
                        shape.kind == ShapeKind::disc});
   mass_.push_back(mass);
   inertia_.push_back(inertia);
@@ -50,9 +56,8 @@ int World::append_body(const Shape& shape, double mass, double inertia, bool act
   active_.push_back(active ? 1 : 0);
   motion_.resize(shapes_.size());
   contact_force_.resize(3 * shapes_.size(), 0.0);
-  vertex_offset_.push_back(vertex_offset_.back() + static_cast<int>(shape.vertices.size()));
   body_vertices_.insert(body_vertices_.end(), shape.vertices.begin(), shape.vertices.end());
-  world_vertices_.resize(vertex_offset_.back());
+  world_vertices_.resize(body_vertices_.size());
   return id;
 }
 
@@ -78,20 +83,22 @@ int World::add_grain(const Shape& shape, double areal_density) {
 }
 
 void World::activate(int body, const Vec2& position, double angle, const Vec2& velocity, double angular_velocity) {
-  if (is_wall(body) || active_[body]) throw std::logic_error("World::activate: not an inactive grain");
-  for (auto& d : motion_.d) std::fill_n(d.begin() + 3 * body, 3, 0.0);
-  motion_.d[0][3 * body] = position.x();
-  motion_.d[0][3 * body + 1] = position.y();
-  motion_.d[0][3 * body + 2] = angle;
-  motion_.d[1][3 * body] = velocity.x();
-  motion_.d[1][3 * body + 1] = velocity.y();
-  motion_.d[1][3 * body + 2] = angular_velocity;
+  if (is_wall(body) || is_active(body)) throw std::logic_error("World::activate: not an inactive grain");
+  const int slot = slot_of_[body];
+  for (auto& d : motion_.d) std::fill_n(d.begin() + 3 * slot, 3, 0.0);
+  motion_.d[0][3 * slot] = position.x();
+  motion_.d[0][3 * slot + 1] = position.y();
+  motion_.d[0][3 * slot + 2] = angle;
+  motion_.d[1][3 * slot] = velocity.x();
+  motion_.d[1][3 * slot + 1] = velocity.y();
+  motion_.d[1][3 * slot + 2] = angular_velocity;
   // Start with the free-flight acceleration so the first predictor step is consistent.
-  motion_.d[2][3 * body] = settings_.gravity.x();
-  motion_.d[2][3 * body + 1] = settings_.gravity.y();
-  active_[body] = 1;
+  motion_.d[2][3 * slot] = settings_.gravity.x();
+  motion_.d[2][3 * slot + 1] = settings_.gravity.y();
+  active_[slot] = 1;
   active_grains_.insert(std::upper_bound(active_grains_.begin(), active_grains_.end(), body), body);
-  place_body(body);
+  active_slots_.insert(std::upper_bound(active_slots_.begin(), active_slots_.end(), slot), slot);
+  place_body(slot);
   neighbours_stale_ = true;
 }
 
@@ -112,13 +119,15 @@ void World::set_time_integration(Scheme scheme, double time_step) {
 }
 
 void World::deactivate(int body) {
-  if (is_wall(body) || !active_[body]) return;
-  active_[body] = 0;
+  if (is_wall(body) || !is_active(body)) return;
+  const int slot = slot_of_[body];
+  active_[slot] = 0;
   active_grains_.erase(std::lower_bound(active_grains_.begin(), active_grains_.end(), body));
+  active_slots_.erase(std::lower_bound(active_slots_.begin(), active_slots_.end(), slot));
   neighbours_stale_ = true;
   // Its contacts end now (the list drops its pairs at the next build).
   if (!body_pair_start_.empty())
-    for (int k = body_pair_start_[body]; k < body_pair_start_[body + 1]; ++k) {
+    for (int k = body_pair_start_[slot]; k < body_pair_start_[slot + 1]; ++k) {
       const int q = body_pairs_[k] >> 1;
       if (pair_touching_[q]) --contact_count_;
       pair_touching_[q] = 0;
@@ -155,35 +164,187 @@ const std::vector<Contact>& World::contacts() const {
   } else {
     contacts_.reserve(contact_count_);
     for (std::size_t q = 0; q < neighbours_.size(); ++q)
-      if (pair_touching_[q]) contacts_.push_back(pair_contact_[q]);
+      if (pair_touching_[q]) {
+        contacts_.push_back(pair_contact_[q]);
+        contacts_.back().a = body_at_[contacts_.back().a];
+        contacts_.back().b = body_at_[contacts_.back().b];
+      }
+    std::sort(contacts_.begin(), contacts_.end(), [](const Contact& c, const Contact& d) { return c.key() < d.key(); });
   }
   contacts_current_ = true;
   return contacts_;
 }
 
 void World::restore_activity(const std::vector<std::uint8_t>& active) {
-  active_ = active;
   active_grains_.clear();
-  for (int i = wall_count_; i < body_count(); ++i)
-    if (active_[i]) active_grains_.push_back(i);
+  active_slots_.clear();
+  for (int i = 0; i < body_count(); ++i) {
+    active_[slot_of_[i]] = active[i];
+    if (active[i] && !is_wall(i)) active_grains_.push_back(i);
+  }
+  for (int slot = wall_count_; slot < body_count(); ++slot)
+    if (active_[slot]) active_slots_.push_back(slot);
   moving_walls_.clear();
   for (int w = 0; w < wall_count_; ++w)
     if (velocity(w).squaredNorm() > 0) moving_walls_.push_back(w);
-  for (int i = 0; i < body_count(); ++i)
-    if (active_[i]) place_body(i);
+  for (int slot = 0; slot < body_count(); ++slot)
+    if (active_[slot]) place_body(slot);
   neighbours_stale_ = true;
 }
 
-[[gnu::always_inline]] inline void World::place_body(int body) {
-  const int first = vertex_offset_[body], count = vertex_offset_[body + 1] - first;
+std::vector<std::uint8_t> World::activity() const {
+  std::vector<std::uint8_t> active(body_count());
+  for (int i = 0; i < body_count(); ++i) active[i] = active_[slot_of_[i]];
+  return active;
+}
+
+MotionState& World::motion() {
+  std::vector<int> body_order(body_count());
+  std::iota(body_order.begin(), body_order.end(), 0);
+  permute_bodies(body_order);
+  next_ordering_step_ = steps_;  // order them by place again at the next build
+  neighbours_stale_ = true;      // the caller may move bodies
+  return motion_;
+}
+
+MotionState World::motion_state() const {
+  MotionState m;
+  m.resize(body_count());
+  for (int i = 0; i < body_count(); ++i) {
+    const int slot = slot_of_[i];
+    for (int k = 0; k < 6; ++k) std::copy_n(motion_.d[k].begin() + 3 * slot, 3, m.d[k].begin() + 3 * i);
+    std::copy_n(motion_.half_velocity.begin() + 3 * slot, 3, m.half_velocity.begin() + 3 * i);
+  }
+  return m;
+}
+
+// The bodies in the order of their place: the active grains along a Z curve (Morton order) over
+// their bounding box, then the inactive ones, ties and the inactive ones by index; the walls
+// stay first. Nearby grains so sit near each other in memory, whatever order they were poured in.
+void World::order_bodies_by_place() {
+  double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+  for (int slot : active_slots_) {
+    xmin = std::min(xmin, motion_.d[0][3 * slot]), xmax = std::max(xmax, motion_.d[0][3 * slot]);
+    ymin = std::min(ymin, motion_.d[0][3 * slot + 1]), ymax = std::max(ymax, motion_.d[0][3 * slot + 1]);
+  }
+  // 16 bits of each coordinate, interleaved; ~0 for an inactive grain.
+  const auto spread_bits = [](std::uint64_t v) {
+    v &= 0xffff;
+    v = (v | (v << 8)) & 0x00ff00ff;
+    v = (v | (v << 4)) & 0x0f0f0f0f;
+    v = (v | (v << 2)) & 0x33333333;
+    return (v | (v << 1)) & 0x55555555;
+  };
+  const double sx = 65535.0 / std::max(xmax - xmin, 1e-300), sy = 65535.0 / std::max(ymax - ymin, 1e-300);
+  std::vector<std::pair<std::uint64_t, int>> place(body_count() - wall_count_);
+  for (int body = wall_count_; body < body_count(); ++body) {
+    const int slot = slot_of_[body];
+    std::uint64_t key = ~std::uint64_t{0};
+    if (active_[slot]) {
+      const auto cell = [](double u) { return static_cast<std::uint64_t>(std::min(std::max(u, 0.0), 65535.0)); };
+      key = spread_bits(cell((motion_.d[0][3 * slot] - xmin) * sx)) |
+            spread_bits(cell((motion_.d[0][3 * slot + 1] - ymin) * sy)) << 1;
+    }
+    place[body - wall_count_] = {key, body};
+  }
+  std::sort(place.begin(), place.end());
+  std::vector<int> body_at(body_count());
+  std::iota(body_at.begin(), body_at.begin() + wall_count_, 0);
+  for (std::size_t k = 0; k < place.size(); ++k) body_at[wall_count_ + k] = place[k].second;
+  permute_bodies(body_at);
+}
+
+// Moves every body to the slot body_at gives it, and the pair list with them: its keys to the
+// new slots (the pairs keep their ends: a is the lower body index), sorted again with all they
+// carry.
+void World::permute_bodies(const std::vector<int>& body_at) {
+  const int n = body_count();
+  std::vector<int> from(n);  // the slot each new slot's body comes from
+  for (int slot = 0; slot < n; ++slot) from[slot] = slot_of_[body_at[slot]];
+  bool moved = false;
+  for (int slot = 0; slot < n && !moved; ++slot) moved = from[slot] != slot;
+  if (!moved) return;
+  const auto permute = [&](auto& values, int per_body) {
+    if (values.size() != static_cast<std::size_t>(per_body) * n) return;  // not in use yet
+    auto old = std::move(values);
+    values.clear();
+    values.reserve(old.size());
+    for (int slot = 0; slot < n; ++slot)
+      for (int c = 0; c < per_body; ++c) values.push_back(std::move(old[per_body * from[slot] + c]));
+  };
+  permute(shapes_, 1);
+  permute(geometry_, 1);
+  permute(mass_, 1);
+  permute(inertia_, 1);
+  permute(inv_mass_, 1);
+  permute(inv_inertia_, 1);
+  permute(active_, 1);
+  for (auto& d : motion_.d) permute(d, 3);
+  permute(motion_.half_velocity, 3);
+  permute(contact_force_, 3);
+  permute(listed_position_, 1);
+  permute(listed_margin_, 1);
+  permute(listed_angle_, 1);
+  permute(displacement_, 1);
+  // The corners, body after body in the new order.
+  std::vector<Vec2> body_vertices, world_vertices;
+  body_vertices.reserve(body_vertices_.size());
+  world_vertices.reserve(world_vertices_.size());
+  for (BodyGeometry& g : geometry_) {
+    const int first = g.first_corner;
+    g.first_corner = static_cast<std::int32_t>(body_vertices.size());
+    body_vertices.insert(body_vertices.end(), body_vertices_.begin() + first, body_vertices_.begin() + first + g.corner_count);
+    world_vertices.insert(world_vertices.end(), world_vertices_.begin() + first, world_vertices_.begin() + first + g.corner_count);
+  }
+  body_vertices_.swap(body_vertices);
+  world_vertices_.swap(world_vertices);
+  std::vector<int> to(n);  // the new slot of each old one
+  for (int slot = 0; slot < n; ++slot) to[from[slot]] = slot;
+  body_at_ = body_at;
+  for (int slot = 0; slot < n; ++slot) slot_of_[body_at_[slot]] = slot;
+  active_slots_.clear();
+  for (int slot = wall_count_; slot < n; ++slot)
+    if (active_[slot]) active_slots_.push_back(slot);
+
+  // The pair list in the new slots.
+  const std::size_t pairs = neighbours_.size();
+  if (pairs == 0) return;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> renamed(pairs);
+  for (std::size_t q = 0; q < pairs; ++q)
+    renamed[q] = {pair_key(to[static_cast<int>(neighbours_[q] >> 32)], to[static_cast<int>(neighbours_[q] & 0xffffffffu)]),
+                  static_cast<std::uint32_t>(q)};
+  std::sort(renamed.begin(), renamed.end());
+  std::vector<Contact> contact(pairs);
+  std::vector<std::uint8_t> touching(pairs);
+  std::vector<OverlapHint> hint(pairs);
+  std::vector<double> apart_until(pairs);
+  for (std::size_t q = 0; q < pairs; ++q) {
+    const std::uint32_t old = renamed[q].second;
+    neighbours_[q] = renamed[q].first;
+    contact[q] = pair_contact_[old];
+    contact[q].a = to[contact[q].a];
+    contact[q].b = to[contact[q].b];
+    touching[q] = pair_touching_[old];
+    hint[q] = pair_hint_[old];
+    apart_until[q] = pair_apart_until_[old];
+  }
+  pair_contact_.swap(contact);
+  pair_touching_.swap(touching);
+  pair_hint_.swap(hint);
+  pair_apart_until_.swap(apart_until);
+  index_pairs_by_body();  // with zero loads: the next pair loop writes those of the pairs that touch
+}
+
+[[gnu::always_inline]] inline void World::place_body(int slot) {
+  const int first = geometry_[slot].first_corner, count = geometry_[slot].corner_count;
   if (count == 0) return;  // a disc
-  const double th = motion_.d[0][3 * body + 2];
+  const double th = motion_.d[0][3 * slot + 2];
   double sn, c;
   rotation_sincos(th, sn, c);  // one reduction for both
   // p + R(theta) v for each body-frame corner v, both coordinates in one register:
   // (px, py) + vx (c, s) + vy (-s, c). The same bits as vec2.h's rotate: vy (-s) is -(s vy)
   // exactly, and adding it is subtracting s vy.
-  const Double2 p = {motion_.d[0][3 * body], motion_.d[0][3 * body + 1]};
+  const Double2 p = {motion_.d[0][3 * slot], motion_.d[0][3 * slot + 1]};
   const Double2 first_column = {c, sn}, second_column = {-sn, c};
   const double* from = body_vertices_[first].data();
   double* out = world_vertices_[first].data();
@@ -223,25 +384,26 @@ void World::step() {
 bool World::move_grains() {
   const double dt = settings_.time_step;
   const Stepper stepper(settings_.scheme, dt);
-  const int n = static_cast<int>(active_grains_.size());
+  const int n = static_cast<int>(active_slots_.size());
   const bool listed = !neighbours_stale_ && listed_margin_.size() == static_cast<std::size_t>(body_count());
   bool outdated = !listed;
 #pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) {
-    const int i = active_grains_[k];
+    const int i = active_slots_[k];
     stepper.predict(motion_, i);
     place_body(i);
     if (listed) {
-      const double moved2 = (position(i) - listed_position_[i]).squaredNorm();
+      const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
       outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
-      displacement_[i] = std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(angle(i) - listed_angle_[i]);
+      displacement_[i] =
+          std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(motion_.d[0][3 * i + 2] - listed_angle_[i]);
     }
   }
-  for (int w : moving_walls_) {  // prescribed motion: x += v dt
+  for (int w : moving_walls_) {  // prescribed motion: x += v dt (walls keep their own slots)
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
     place_body(w);
     if (listed) {
-      const double moved2 = (position(w) - listed_position_[w]).squaredNorm();
+      const double moved2 = (slot_position(w) - listed_position_[w]).squaredNorm();
       outdated = outdated || moved2 > listed_margin_[w] * listed_margin_[w];
       displacement_[w] = std::sqrt(moved2);  // walls do not turn
     }
@@ -288,6 +450,11 @@ void World::find_candidate_pairs(bool list_outdated) {
 
 void World::build_neighbour_list() {
   require_finite_state();
+  // Every few thousand steps the bodies take the order of their place; the list keeps its pairs.
+  if (settings_.order_bodies_by_place && steps_ >= next_ordering_step_) {
+    order_bodies_by_place();
+    next_ordering_step_ = steps_ + ordering_interval_steps;
+  }
   std::vector<std::uint64_t> old_neighbours;
   old_neighbours.swap(neighbours_);
   neighbours_stale_ = false;
@@ -299,37 +466,38 @@ void World::build_neighbour_list() {
   listed_angle_.resize(body_count());
   displacement_.assign(body_count(), 0.0);
   for (int i = 0; i < body_count(); ++i) {
-    listed_position_[i] = position(i);
-    listed_angle_[i] = angle(i);
-    listed_margin_[i] = is_wall(i) && velocity(i).squaredNorm() == 0.0 ? 0.0 : rest_margin + velocity(i).norm() * lookahead;
+    listed_position_[i] = slot_position(i);
+    listed_angle_[i] = motion_.d[0][3 * i + 2];
+    listed_margin_[i] = is_wall(i) && slot_velocity(i).squaredNorm() == 0.0 ? 0.0 : rest_margin + slot_velocity(i).norm() * lookahead;
   }
 
   // Walls against grains: bounding box of the wall, widened by both margins. Walls have the
-  // lowest indices, so these keys come first and in order.
+  // lowest indices and slots, so these keys come first and in order.
   for (int w = 0; w < wall_count_; ++w) {
     Vec2 lo, hi;
     wall_box(shapes_[w], position(w), corners(w), corner_count(w), lo, hi);
-    for (int i : active_grains_)
+    for (int i : active_slots_)
       if (circle_meets_box(motion_.d[0][3 * i], motion_.d[0][3 * i + 1],
                            geometry_[i].bounding_radius + listed_margin_[i] + listed_margin_[w], lo, hi))
         neighbours_.push_back(pair_key(w, i));
   }
-  if (!active_grains_.empty()) list_grain_pairs(rest_margin);
+  if (!active_slots_.empty()) list_grain_pairs(rest_margin);
   carry_pair_history(old_neighbours);
   index_pairs_by_body();
 }
 
 // Grains against grains: a cell list, with cells wide enough that two grains of the usual reach
 // (bounding radius plus margin, a margin up to 1.5 times the rest margin) that are within reach
-// of each other sit in the same or adjacent cells. Those pairs are listed per grain i (j > i,
-// sorted), so concatenating the per-thread lists of consecutive blocks of grains gives the same
-// sorted list whatever the thread count. The few grains of longer reach (moving fast) search
+// of each other sit in the same or adjacent cells. Those pairs are listed per grain slot i (the
+// pairs in which i is the lower body index, sorted by the other's slot), so concatenating the
+// per-thread lists of consecutive blocks of slots gives the same sorted list whatever the thread
+// count. The few grains of longer reach (moving fast) search
 // as far as they reach; their pairs are sorted apart and merged in.
 void World::list_grain_pairs(double rest_margin) {
   const double usual_reach = max_grain_radius_ + 1.5 * rest_margin;
   const auto reach = [this](int i) { return geometry_[i].bounding_radius + listed_margin_[i]; };
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY, longest_reach = 0.0;
-  for (int i : active_grains_) {
+  for (int i : active_slots_) {
     xmin = std::min(xmin, motion_.d[0][3 * i]);
     xmax = std::max(xmax, motion_.d[0][3 * i]);
     ymin = std::min(ymin, motion_.d[0][3 * i + 1]);
@@ -338,23 +506,23 @@ void World::list_grain_pairs(double rest_margin) {
   }
   double h = 2.0 * usual_reach;
   // Keep the grid no larger than a few cells per grain, whatever the spread of the grains.
-  const double max_cells = 4.0 * static_cast<double>(active_grains_.size()) + 1024.0;
+  const double max_cells = 4.0 * static_cast<double>(active_slots_.size()) + 1024.0;
   while (((xmax - xmin) / h + 1.0) * ((ymax - ymin) / h + 1.0) > max_cells) h *= 2.0;
   const int nx = static_cast<int>((xmax - xmin) / h) + 1, ny = static_cast<int>((ymax - ymin) / h) + 1;
   const int ncells = nx * ny;
   cell_start_.assign(ncells + 1, 0);
   body_cell_.resize(body_count());
-  for (int i : active_grains_) {
+  for (int i : active_slots_) {
     const int cx = static_cast<int>((motion_.d[0][3 * i] - xmin) / h);
     const int cy = static_cast<int>((motion_.d[0][3 * i + 1] - ymin) / h);
     body_cell_[i] = cy * nx + cx;
     ++cell_start_[body_cell_[i] + 1];
   }
   for (int c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_bodies_.resize(active_grains_.size());
+  cell_bodies_.resize(active_slots_.size());
   {
     std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
-    for (int i : active_grains_) cell_bodies_[fill[body_cell_[i]]++] = i;  // ascending within a cell
+    for (int i : active_slots_) cell_bodies_[fill[body_cell_[i]]++] = i;  // ascending within a cell
   }
   const auto far_reaching = [&](int i) { return reach(i) > usual_reach; };
   // Visits every grain j of the cells within `range` cells of grain i's.
@@ -372,7 +540,7 @@ void World::list_grain_pairs(double rest_margin) {
     return dx * dx + dy * dy < r * r;
   };
 
-  const int n_active = static_cast<int>(active_grains_.size());
+  const int n_active = static_cast<int>(active_slots_.size());
 #pragma omp parallel if (n_active >= parallel_threshold)
   {
     std::vector<std::uint64_t> local;
@@ -384,11 +552,12 @@ void World::list_grain_pairs(double rest_margin) {
     const int begin = static_cast<int>(static_cast<long long>(n_active) * t / nt);
     const int end = static_cast<int>(static_cast<long long>(n_active) * (t + 1) / nt);
     for (int idx = begin; idx < end; ++idx) {
-      const int i = active_grains_[idx];
+      const int i = active_slots_[idx];
       if (far_reaching(i)) continue;
       const std::size_t first = local.size();
+      // Each pair from the side of its lower body index, i's keys sorted by the other slot.
       for_cells_around(i, 1, [&](int j) {
-        if (j > i && !far_reaching(j) && within_reach(i, j)) local.push_back(pair_key(i, j));
+        if (body_at_[j] > body_at_[i] && !far_reaching(j) && within_reach(i, j)) local.push_back(pair_key(i, j));
       });
       std::sort(local.begin() + first, local.end());
     }
@@ -401,12 +570,12 @@ void World::list_grain_pairs(double rest_margin) {
 
   // Pairs with a far-reaching grain, found from its side (from the smaller index if both are).
   std::vector<std::uint64_t> far;
-  for (int i : active_grains_) {
+  for (int i : active_slots_) {
     if (!far_reaching(i)) continue;
     const int range = static_cast<int>(std::ceil((reach(i) + longest_reach) / h));
     for_cells_around(i, range, [&](int j) {
       if (j == i || (far_reaching(j) && j < i) || !within_reach(i, j)) return;
-      far.push_back(i < j ? pair_key(i, j) : pair_key(j, i));
+      far.push_back(body_at_[i] < body_at_[j] ? pair_key(i, j) : pair_key(j, i));
     });
   }
   if (far.empty()) return;
@@ -429,15 +598,19 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
   std::vector<std::uint8_t> touching(n, 0);
   std::vector<OverlapHint> hint(n);
   if (!restored_contacts_.empty()) {
+    // The restored contacts name bodies: in slots, sorted as the list.
+    std::vector<Contact> restored = std::move(restored_contacts_);
+    restored_contacts_.clear();
+    for (Contact& c : restored) c.a = slot_of_[c.a], c.b = slot_of_[c.b];
+    std::sort(restored.begin(), restored.end(), [](const Contact& c, const Contact& d) { return c.key() < d.key(); });
     std::size_t r = 0;
     for (std::size_t q = 0; q < n; ++q) {
-      while (r < restored_contacts_.size() && restored_contacts_[r].key() < neighbours_[q]) ++r;
-      if (r < restored_contacts_.size() && restored_contacts_[r].key() == neighbours_[q]) {
-        contact[q] = restored_contacts_[r];
+      while (r < restored.size() && restored[r].key() < neighbours_[q]) ++r;
+      if (r < restored.size() && restored[r].key() == neighbours_[q]) {
+        contact[q] = restored[r];
         touching[q] = 1;
       }
     }
-    restored_contacts_.clear();
   } else {
     std::size_t r = 0;
     for (std::size_t q = 0; q < n; ++q) {
@@ -456,8 +629,8 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
   contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
 }
 
-// Each body's pairs in key order: the order in which a serial loop over the sorted pairs would
-// add their forces to it.
+// Each body's pairs in the order of their other body's index: the order in which a serial loop
+// over the pairs sorted by body index would add their forces to it, whatever the slots.
 void World::index_pairs_by_body() {
   body_pair_start_.assign(body_count() + 1, 0);
   for (std::uint64_t key : neighbours_) {
@@ -469,13 +642,23 @@ void World::index_pairs_by_body() {
   pair_ends_.resize(2 * neighbours_.size());
   std::vector<int> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
   for (std::size_t q = 0; q < neighbours_.size(); ++q) {
-    const int a_entry = fill[static_cast<int>(neighbours_[q] >> 32)]++;
-    const int b_entry = fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++;
-    body_pairs_[a_entry] = 2 * static_cast<int>(q);
-    body_pairs_[b_entry] = 2 * static_cast<int>(q) + 1;
-    pair_ends_[2 * q] = a_entry;
-    pair_ends_[2 * q + 1] = b_entry;
+    body_pairs_[fill[static_cast<int>(neighbours_[q] >> 32)]++] = 2 * static_cast<int>(q);
+    body_pairs_[fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++] = 2 * static_cast<int>(q) + 1;
   }
+  // In key order each body's pairs run by the other body's slot; sort them by its index (a few
+  // entries a body, mostly in order already).
+  const auto other_body = [this](int entry) {
+    const std::uint64_t key = neighbours_[entry >> 1];
+    return body_at_[static_cast<int>(entry & 1 ? key >> 32 : key & 0xffffffffu)];
+  };
+  for (int i = 0; i < body_count(); ++i)
+    for (int k = body_pair_start_[i] + 1; k < body_pair_start_[i + 1]; ++k) {
+      const int entry = body_pairs_[k], other = other_body(entry);
+      int m = k;
+      for (; m > body_pair_start_[i] && other_body(body_pairs_[m - 1]) > other; --m) body_pairs_[m] = body_pairs_[m - 1];
+      body_pairs_[m] = entry;
+    }
+  for (std::size_t k = 0; k < body_pairs_.size(); ++k) pair_ends_[body_pairs_[k]] = static_cast<int>(k);
   end_load_.assign(body_pairs_.size(), EndLoad{0.0, 0.0, 0.0});
 }
 
@@ -484,8 +667,9 @@ void World::collide_and_compute_forces() {
   const ContactParameters& law = settings_.contact;
   const double dt = settings_.time_step;
 
-  // The deepest overlap of this step: each thread's deepest, the smaller pair index breaking
-  // ties, so the record is the same whatever the threads and the order they take the pairs in.
+  // The deepest overlap of this step: each thread's deepest, the pair of lower body indices
+  // breaking ties, so the record is the same whatever the threads, the order they take the pairs
+  // in and the slots.
   double step_deepest = 0.0;
   std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0, proven_apart = 0;
 
@@ -689,7 +873,7 @@ void World::collide_and_compute_forces() {
           const double inner = a < wall_count ? geometry[b].inner_radius
                                               : std::min(geometry[a].inner_radius, geometry[b].inner_radius);
           const double fraction = depth / inner;
-          if (fraction > deepest || (fraction == deepest && q < deepest_pair)) {
+          if (fraction > deepest || (fraction == deepest && body_key(q) < body_key(deepest_pair))) {
             deepest = fraction;
             deepest_pair = q;
           }
@@ -730,7 +914,7 @@ void World::collide_and_compute_forces() {
       apply_contact_law(touching, overlaps.data(), touched.data(), first);
     }
 #pragma omp critical
-    if (deepest > step_deepest || (deepest == step_deepest && deepest_pair < step_deepest_pair)) {
+    if (deepest > step_deepest || (deepest == step_deepest && body_key(deepest_pair) < body_key(step_deepest_pair))) {
       step_deepest = deepest;
       step_deepest_pair = deepest_pair;
     }
@@ -741,7 +925,7 @@ void World::collide_and_compute_forces() {
   contacts_current_ = false;
   if (step_deepest > deepest_overlap_.fraction) {
     const Contact& ct = pair_contact_[step_deepest_pair];
-    deepest_overlap_ = {step_deepest, time_ + dt, ct.point, ct.a, ct.b};
+    deepest_overlap_ = {step_deepest, time_ + dt, ct.point, body_at_[ct.a], body_at_[ct.b]};
   }
 }
 
@@ -766,12 +950,12 @@ void World::gather_and_correct() {
     force_sum[3 * i + 2] = torque;
   };
   const Stepper stepper(settings_.scheme, settings_.time_step);
-  const int n = static_cast<int>(active_grains_.size());
+  const int n = static_cast<int>(active_slots_.size());
   const Vec2 g = settings_.gravity;
-  int first_unstable = n;  // the first grain (in body order) whose state is not finite
+  int first_unstable = body_count();  // the first grain (by index) whose state is not finite
 #pragma omp parallel for schedule(static) reduction(min : first_unstable) if (n >= parallel_threshold)
   for (int k = 0; k < n; ++k) {
-    const int i = active_grains_[k];
+    const int i = active_slots_[k];
     sum_over_pairs(i);
     const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
                              contact_force_[3 * i + 2] * inv_inertia_[i]};
@@ -781,23 +965,29 @@ void World::gather_and_correct() {
     const double* d0 = &motion_.d[0][3 * i];
     const double* d1 = &motion_.d[1][3 * i];
     const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
-    if (!std::isfinite(sum) && k < first_unstable) first_unstable = k;
+    if (!std::isfinite(sum) && body_at_[i] < first_unstable) first_unstable = body_at_[i];
   }
   for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);
-  if (first_unstable == n) return;
+  if (first_unstable == body_count()) return;
   std::ostringstream s;
   s << "the simulation became unstable at t = " << time_ + settings_.time_step << " s (step " << steps_ + 1
-    << "): grain " << active_grains_[first_unstable]
+    << "): grain " << first_unstable
     << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
     << " s) above the stability limit, or bodies placed overlapping deeply";
   throw std::runtime_error(s.str());
 }
 
+std::uint64_t World::body_key(std::size_t pair) const {
+  if (pair >= neighbours_.size()) return ~std::uint64_t{0};  // no pair
+  const std::uint64_t key = neighbours_[pair];
+  return pair_key(body_at_[static_cast<int>(key >> 32)], body_at_[static_cast<int>(key & 0xffffffffu)]);
+}
+
 int World::first_non_finite_grain() const {
   int first = -1;
   for (int i : active_grains_) {
-    const double* d0 = &motion_.d[0][3 * i];
-    const double* d1 = &motion_.d[1][3 * i];
+    const double* d0 = &motion_.d[0][3 * slot_of_[i]];
+    const double* d1 = &motion_.d[1][3 * slot_of_[i]];
     // Any NaN or infinity makes the sum NaN or infinite (inf + -inf is NaN).
     const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
     if (!std::isfinite(sum) && (first < 0 || i < first)) first = i;
@@ -825,7 +1015,7 @@ double World::kinetic_energy() const {
   for (int i : active_grains_) {
     const Vec2 v = velocity(i);
     const double w = angular_velocity(i);
-    e += 0.5 * mass_[i] * v.squaredNorm() + 0.5 * inertia_[i] * w * w;
+    e += 0.5 * mass(i) * v.squaredNorm() + 0.5 * inertia(i) * w * w;
   }
   return e;
 }

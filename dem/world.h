@@ -9,6 +9,13 @@
 // then streams through the list in order, each pair on its own (so in parallel, in any order),
 // and each body sums its pairs' forces in key order through a per-body index of the list built
 // with it: the sums, and so the results, do not depend on the number of threads.
+//
+// Bodies are known by their index (walls first, then grains, in the order they were added), but
+// stored in slots that the world puts in the order of their place every few thousand steps
+// (WorldSettings::order_bodies_by_place), so that bodies that touch sit near each other in
+// memory. A pair is still the pair of its lower and higher body index, and a body still sums its
+// pairs in the order of their other body's index: the results are those of index order, bit for
+// bit, whatever the slots.
 #include <cstdint>
 #include <vector>
 
@@ -77,6 +84,10 @@ struct WorldSettings {
   /// (less convex_overlap.h's certain_separation). Only a matter of speed: the results are the
   /// same bit for bit (tests/dem/world_test.cpp pours a pile both ways).
   bool skip_separated_pairs = true;
+  /// Keep the bodies in memory in the order of their place (a Z curve over the pile), renewed
+  /// at a list build every few thousand steps, so that the pair loop finds a pair's two bodies
+  /// near each other. Only a matter of speed: the results are the same bit for bit.
+  bool order_bodies_by_place = true;
 };
 
 class World {
@@ -101,27 +112,28 @@ class World {
   // --- state access -------------------------------------------------------------------
   int body_count() const { return static_cast<int>(shapes_.size()); }
   int wall_count() const { return wall_count_; }
-  const Shape& shape(int body) const { return shapes_[body]; }
+  const Shape& shape(int body) const { return shapes_[slot_of_[body]]; }
   bool is_wall(int body) const { return body < wall_count_; }
-  bool is_active(int body) const { return active_[body] != 0; }
+  bool is_active(int body) const { return active_[slot_of_[body]] != 0; }
+  /// The active grains' indices, ascending.
   const std::vector<int>& active_grains() const { return active_grains_; }
-  Vec2 position(int body) const { return {motion_.d[0][3 * body], motion_.d[0][3 * body + 1]}; }
-  double angle(int body) const { return motion_.d[0][3 * body + 2]; }
-  Vec2 velocity(int body) const { return {motion_.d[1][3 * body], motion_.d[1][3 * body + 1]}; }
-  double angular_velocity(int body) const { return motion_.d[1][3 * body + 2]; }
-  double mass(int body) const { return mass_[body]; }
-  double inertia(int body) const { return inertia_[body]; }
+  Vec2 position(int body) const { return slot_position(slot_of_[body]); }
+  double angle(int body) const { return motion_.d[0][3 * slot_of_[body] + 2]; }
+  Vec2 velocity(int body) const { return slot_velocity(slot_of_[body]); }
+  double angular_velocity(int body) const { return motion_.d[1][3 * slot_of_[body] + 2]; }
+  double mass(int body) const { return mass_[slot_of_[body]]; }
+  double inertia(int body) const { return inertia_[slot_of_[body]]; }
   /// Sum of contact forces and torque on a body from the last step (gravity excluded).
-  Vec2 contact_force(int body) const { return {contact_force_[3 * body], contact_force_[3 * body + 1]}; }
-  double contact_torque(int body) const { return contact_force_[3 * body + 2]; }
+  Vec2 contact_force(int body) const { return {contact_force_[3 * slot_of_[body]], contact_force_[3 * slot_of_[body] + 1]}; }
+  double contact_torque(int body) const { return contact_force_[3 * slot_of_[body] + 2]; }
   /// The touching pairs of the last step, sorted by key (assembled from the pair list when asked
   /// for, so do not call it every step: contact_count() is cheap).
   const std::vector<Contact>& contacts() const;
   std::size_t contact_count() const { return contact_count_; }
   /// World-frame corners of a polygon body (after the last step); a disc's are none (a pointer
   /// one past its predecessor's, maybe the array's end, never read).
-  const Vec2* corners(int body) const { return world_vertices_.data() + vertex_offset_[body]; }
-  int corner_count(int body) const { return vertex_offset_[body + 1] - vertex_offset_[body]; }
+  const Vec2* corners(int body) const { return world_vertices_.data() + geometry_[slot_of_[body]].first_corner; }
+  int corner_count(int body) const { return geometry_[slot_of_[body]].corner_count; }
 
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
@@ -134,6 +146,8 @@ class World {
   std::size_t candidate_count() const { return candidate_count_; }
   /// Of those, the polygon pairs proven apart and so skipped (WorldSettings::skip_separated_pairs).
   std::size_t proven_apart_count() const { return proven_apart_count_; }
+  /// The slot that stores a body (WorldSettings::order_bodies_by_place): only a matter of speed.
+  int slot(int body) const { return slot_of_[body]; }
   /// Pairs on the Verlet list, and how many times it has been built.
   std::size_t neighbour_count() const { return neighbours_.size(); }
   std::int64_t neighbour_builds() const { return neighbour_builds_; }
@@ -150,11 +164,11 @@ class World {
   const DeepestOverlap& deepest_overlap() const { return deepest_overlap_; }
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
-  MotionState& motion() {
-    neighbours_stale_ = true;  // the caller may move bodies
-    return motion_;
-  }
-  const MotionState& motion() const { return motion_; }
+  /// The state of every body, in body order, to read or change (the slots return to body order
+  /// first, until the next reordering).
+  MotionState& motion();
+  /// A copy of the state of every body, in body order.
+  MotionState motion_state() const;
   /// Replaces the contacts (sorted by key, bodies a < b) and their spring history, e.g. from a
   /// checkpoint; the next step continues them.
   void restore_contacts(std::vector<Contact> contacts);
@@ -162,7 +176,8 @@ class World {
   void restore_deepest_overlap(const DeepestOverlap& deepest) { deepest_overlap_ = deepest; }
   /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
   void restore_activity(const std::vector<std::uint8_t>& active);
-  const std::vector<std::uint8_t>& activity() const { return active_; }
+  /// Which bodies are active (1), in body order.
+  std::vector<std::uint8_t> activity() const;
 
  private:
   int append_body(const Shape& shape, double mass, double inertia, bool active);
@@ -174,10 +189,19 @@ class World {
   void index_pairs_by_body();
   void collide_and_compute_forces();
   void gather_and_correct();
-  void place_body(int body);
+  void place_body(int slot);
+  void order_bodies_by_place();
+  void permute_bodies(const std::vector<int>& body_at);
+  Vec2 slot_position(int slot) const { return {motion_.d[0][3 * slot], motion_.d[0][3 * slot + 1]}; }
+  Vec2 slot_velocity(int slot) const { return {motion_.d[1][3 * slot], motion_.d[1][3 * slot + 1]}; }
+  std::uint64_t body_key(std::size_t pair) const;
 
   WorldSettings settings_;
   int wall_count_ = 0;
+  // Where each body is stored, and which body each slot holds (walls: their own index). Every
+  // array below that is per body is per slot, and the pair list holds slots.
+  std::vector<int> slot_of_, body_at_;
+  std::int64_t next_ordering_step_ = 0;  // order the bodies by place at the first build from then
   std::vector<Shape> shapes_;
   // What the pair loop needs of each body's shape, packed (the Shape keeps its vertices apart).
   struct BodyGeometry {
@@ -188,16 +212,17 @@ class World {
   std::vector<BodyGeometry> geometry_;
   std::vector<double> mass_, inertia_, inv_mass_, inv_inertia_;
   std::vector<std::uint8_t> active_;
-  std::vector<int> active_grains_;   // ascending
+  std::vector<int> active_grains_;   // body indices, ascending
+  std::vector<int> active_slots_;    // their slots, ascending
   std::vector<int> moving_walls_;
   MotionState motion_;
   std::vector<double> contact_force_;  // 3 per body: fx, fy, torque
-  std::vector<int> vertex_offset_{0};
   std::vector<Vec2> body_vertices_, world_vertices_;  // every polygon's corners, in its frame and placed
   std::vector<Vec2> wall_lo_, wall_hi_;    // walls' bounding boxes this step
 
   // Verlet list: pairs within reach at the last build, where every body was then, and how far
-  // each may move before the list must be built again.
+  // each may move before the list must be built again. A pair's key is pair_key(slot of its
+  // lower body index, slot of its higher), and the list is sorted by key.
   std::vector<std::uint64_t> neighbours_;  // sorted pair keys
   std::vector<Vec2> listed_position_;      // per body
   std::vector<double> listed_margin_;      // per body [m]
@@ -215,9 +240,10 @@ class World {
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.
   std::vector<double> pair_apart_until_;
-  // Each body's listed pairs in key order: body_pairs_ from body_pair_start_[i] to
-  // body_pair_start_[i + 1], each entry 2 q + (1 if the body is the pair's b). pair_ends_[2 q]
-  // and [2 q + 1] are pair q's entries in that index, for its a and its b.
+  // Each body's listed pairs in the order of the other body's index: body_pairs_ from
+  // body_pair_start_[i] to body_pair_start_[i + 1] (i a slot), each entry 2 q + (1 if the body is
+  // the pair's b). pair_ends_[2 q] and [2 q + 1] are pair q's entries in that index, for its a
+  // and its b.
   std::vector<int> body_pair_start_, body_pairs_, pair_ends_;
   // What each entry of that index receives from its pair: the force on the body and the torque
   // about its centroid, zero where the pair does not touch. The pair loop writes both ends of

@@ -236,6 +236,7 @@ class World {
   // narrow phase's hint.
   std::vector<Contact> pair_contact_;
   std::vector<std::uint8_t> pair_touching_;
+  std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
   std::vector<OverlapHint> pair_hint_;
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.

@@ -171,7 +171,9 @@ TEST(World, TheOrderOfBodiesInMemoryChangesNothing) {
         if (k == 2500 || k == 4499)
           for (int i = 0; i < w.body_count(); ++i) moved += w.slot(i) != i;
       }
-      if (ordered) EXPECT_GT(moved, 2 * 200) << "most bodies must have been moved, twice";
+      if (ordered) {
+        EXPECT_GT(moved, 2 * 200) << "most bodies must have been moved, twice";
+      }
       for (const Contact& c : w.contacts())
         contact_values[ordered].insert(contact_values[ordered].end(),
                                        {double(c.a), double(c.b), c.spring, c.point.x(), c.point.y(), c.normal.x(),

@@ -710,6 +710,18 @@ void World::collide_and_compute_forces() {
     chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * touched_last_step;
   }
   const std::size_t* const cost_end = chunk_cost_end_.data();
+  // Each thread's working arrays for a chunk, kept from step to step: no allocation in the step.
+  if (chunk_scratch_.size() < static_cast<std::size_t>(omp_get_max_threads())) {
+    chunk_scratch_.resize(omp_get_max_threads());
+    for (ChunkScratch& c : chunk_scratch_) {
+      c.overlaps.resize(pair_chunk);
+      c.outcome.resize(pair_chunk);
+      c.touched.resize(pair_chunk);
+      c.batch.reserve(pair_chunk);
+      c.touching.reserve(pair_chunk);
+    }
+  }
+  ChunkScratch* const chunk_scratch = chunk_scratch_.data();
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step.
@@ -896,13 +908,12 @@ void World::collide_and_compute_forces() {
         touching_pairs += lanes;
       }
     };
-    std::vector<Overlap> overlaps(pair_chunk);
-    std::vector<std::uint8_t> outcome(pair_chunk), touched(pair_chunk);
-    std::vector<std::size_t> batch, touching;
-    batch.reserve(pair_chunk);
-    touching.reserve(pair_chunk);
     const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads()),
                       thread = static_cast<std::size_t>(omp_get_thread_num());
+    ChunkScratch& scratch = chunk_scratch[thread];
+    std::vector<Overlap>& overlaps = scratch.overlaps;
+    std::vector<std::uint8_t>&outcome = scratch.outcome, &touched = scratch.touched;
+    std::vector<std::size_t>&batch = scratch.batch, &touching = scratch.touching;
     const auto run_start = [&](std::size_t t) {  // the first chunk whose cost starts at t/threads or later
       return static_cast<std::size_t>(std::lower_bound(cost_end, cost_end + chunks, (cost_end[chunks] * t + threads - 1) / threads) - cost_end);
     };

@@ -237,6 +237,12 @@ class World {
   std::vector<Contact> pair_contact_;
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
+  struct ChunkScratch {  // what a thread of the pair loop works in, one chunk of pairs at a time
+    std::vector<Overlap> overlaps;
+    std::vector<std::uint8_t> outcome, touched;
+    std::vector<std::size_t> batch, touching;
+  };
+  std::vector<ChunkScratch> chunk_scratch_;  // one per thread
   std::vector<OverlapHint> pair_hint_;
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.

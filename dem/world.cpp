@@ -34,6 +34,8 @@ constexpr int parallel_threshold = 256;
 // How often the bodies take the order of their place (at the first list build after this many
 // steps): sorting and moving them costs about ten steps.
 constexpr std::int64_t ordering_interval_steps = 2000;
+// No earlier pair (World::reorder_pair_data).
+constexpr std::size_t no_pair = ~std::size_t{0};
 
 }  // namespace
 
@@ -314,24 +316,13 @@ void World::permute_bodies(const std::vector<int>& body_at) {
     renamed[q] = {pair_key(to[static_cast<int>(neighbours_[q] >> 32)], to[static_cast<int>(neighbours_[q] & 0xffffffffu)]),
                   static_cast<std::uint32_t>(q)};
   std::sort(renamed.begin(), renamed.end());
-  std::vector<Contact> contact(pairs);
-  std::vector<std::uint8_t> touching(pairs);
-  std::vector<OverlapHint> hint(pairs);
-  std::vector<double> apart_until(pairs);
+  std::vector<std::size_t> earlier(pairs);
   for (std::size_t q = 0; q < pairs; ++q) {
-    const std::uint32_t old = renamed[q].second;
     neighbours_[q] = renamed[q].first;
-    contact[q] = pair_contact_[old];
-    contact[q].a = to[contact[q].a];
-    contact[q].b = to[contact[q].b];
-    touching[q] = pair_touching_[old];
-    hint[q] = pair_hint_[old];
-    apart_until[q] = pair_apart_until_[old];
+    earlier[q] = renamed[q].second;
   }
-  pair_contact_.swap(contact);
-  pair_touching_.swap(touching);
-  pair_hint_.swap(hint);
-  pair_apart_until_.swap(apart_until);
+  reorder_pair_data(earlier);
+  for (Contact& c : pair_contact_) c.a = to[c.a], c.b = to[c.b];
   index_pairs_by_body();  // with zero loads: the next pair loop writes those of the pairs that touch
 }
 
@@ -594,9 +585,16 @@ void World::list_grain_pairs(double rest_margin) {
 // place of the old list once.
 void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours) {
   const std::size_t n = neighbours_.size();
-  std::vector<Contact> contact(n);
-  std::vector<std::uint8_t> touching(n, 0);
-  std::vector<OverlapHint> hint(n);
+  std::vector<std::size_t> earlier(n, no_pair);
+  if (restored_contacts_.empty()) {
+    std::size_t r = 0;
+    for (std::size_t q = 0; q < n; ++q) {
+      while (r < old_neighbours.size() && old_neighbours[r] < neighbours_[q]) ++r;
+      if (r < old_neighbours.size() && old_neighbours[r] == neighbours_[q]) earlier[q] = r;
+    }
+  }
+  reorder_pair_data(earlier);
+  pair_apart_until_.assign(n, 0.0);  // the proofs count from the last build's places
   if (!restored_contacts_.empty()) {
     // The restored contacts name bodies: in slots, sorted as the list.
     std::vector<Contact> restored = std::move(restored_contacts_);
@@ -607,26 +605,35 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
     for (std::size_t q = 0; q < n; ++q) {
       while (r < restored.size() && restored[r].key() < neighbours_[q]) ++r;
       if (r < restored.size() && restored[r].key() == neighbours_[q]) {
-        contact[q] = restored[r];
-        touching[q] = 1;
+        pair_contact_[q] = restored[r];
+        pair_touching_[q] = 1;
       }
     }
-  } else {
-    std::size_t r = 0;
-    for (std::size_t q = 0; q < n; ++q) {
-      while (r < old_neighbours.size() && old_neighbours[r] < neighbours_[q]) ++r;
-      if (r < old_neighbours.size() && old_neighbours[r] == neighbours_[q]) {
-        contact[q] = pair_contact_[r];
-        touching[q] = pair_touching_[r];
-        hint[q] = pair_hint_[r];
-      }
-    }
+  }
+  contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
+}
+
+// What each pair of the list carries from step to step (its contact and spring, whether it
+// touched, the narrow phase's hint and proof), for the list in a new order: pair q takes what
+// pair earlier[q] carried, or nothing where earlier[q] is no_pair.
+void World::reorder_pair_data(const std::vector<std::size_t>& earlier) {
+  const std::size_t n = earlier.size();
+  std::vector<Contact> contact(n);
+  std::vector<std::uint8_t> touching(n, 0);
+  std::vector<OverlapHint> hint(n);
+  std::vector<double> apart_until(n, 0.0);
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::size_t old = earlier[q];
+    if (old == no_pair) continue;
+    contact[q] = pair_contact_[old];
+    touching[q] = pair_touching_[old];
+    hint[q] = pair_hint_[old];
+    apart_until[q] = pair_apart_until_[old];
   }
   pair_contact_.swap(contact);
   pair_touching_.swap(touching);
   pair_hint_.swap(hint);
-  pair_apart_until_.assign(n, 0.0);  // the proofs count from the last build's places
-  contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
+  pair_apart_until_.swap(apart_until);
 }
 
 // Each body's pairs in the order of their other body's index: the order in which a serial loop

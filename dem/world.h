@@ -186,6 +186,7 @@ class World {
   void build_neighbour_list();
   void list_grain_pairs(double rest_margin);
   void carry_pair_history(const std::vector<std::uint64_t>& old_neighbours);
+  void reorder_pair_data(const std::vector<std::size_t>& earlier);
   void index_pairs_by_body();
   void collide_and_compute_forces();
   void gather_and_correct();

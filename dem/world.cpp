@@ -37,6 +37,30 @@ constexpr std::int64_t ordering_interval_steps = 2000;
 // No earlier pair (World::reorder_pair_data).
 constexpr std::size_t no_pair = ~std::size_t{0};
 
+// The threads of the enclosing parallel region and this one's number (1 and 0 without OpenMP).
+int thread_count() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+int thread_number() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+// The most threads a parallel region may have.
+int max_thread_count() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
 }  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {}
@@ -535,11 +559,7 @@ void World::list_grain_pairs(double rest_margin) {
 #pragma omp parallel if (n_active >= parallel_threshold)
   {
     std::vector<std::uint64_t> local;
-#ifdef _OPENMP
-    const int nt = omp_get_num_threads(), t = omp_get_thread_num();
-#else
-    const int nt = 1, t = 0;
-#endif
+    const int nt = thread_count(), t = thread_number();
     const int begin = static_cast<int>(static_cast<long long>(n_active) * t / nt);
     const int end = static_cast<int>(static_cast<long long>(n_active) * (t + 1) / nt);
     for (int idx = begin; idx < end; ++idx) {
@@ -559,7 +579,7 @@ void World::list_grain_pairs(double rest_margin) {
     }
   }
 
-  // Pairs with a far-reaching grain, found from its side (from the smaller index if both are).
+  // Pairs with a far-reaching grain, found from its side (from the lower slot if both are).
   std::vector<std::uint64_t> far;
   for (int i : active_slots_) {
     if (!far_reaching(i)) continue;
@@ -718,8 +738,8 @@ void World::collide_and_compute_forces() {
   }
   const std::size_t* const cost_end = chunk_cost_end_.data();
   // Each thread's working arrays for a chunk, kept from step to step: no allocation in the step.
-  if (chunk_scratch_.size() < static_cast<std::size_t>(omp_get_max_threads())) {
-    chunk_scratch_.resize(omp_get_max_threads());
+  if (chunk_scratch_.size() < static_cast<std::size_t>(max_thread_count())) {
+    chunk_scratch_.resize(max_thread_count());
     for (ChunkScratch& c : chunk_scratch_) {
       c.overlaps.resize(pair_chunk);
       c.outcome.resize(pair_chunk);
@@ -915,17 +935,19 @@ void World::collide_and_compute_forces() {
         touching_pairs += lanes;
       }
     };
-    const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads()),
-                      thread = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t threads = static_cast<std::size_t>(thread_count()),
+                      thread = static_cast<std::size_t>(thread_number());
     ChunkScratch& scratch = chunk_scratch[thread];
     std::vector<Overlap>& overlaps = scratch.overlaps;
     std::vector<std::uint8_t>&outcome = scratch.outcome, &touched = scratch.touched;
     std::vector<std::size_t>&batch = scratch.batch, &touching = scratch.touching;
-    const auto run_start = [&](std::size_t t) {  // the first chunk whose cost starts at t/threads or later
+    // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
+    // later (0 for the first thread); the last thread's run ends at the last chunk.
+    const auto run_start = [&](std::size_t t) {
       return static_cast<std::size_t>(std::lower_bound(cost_end, cost_end + chunks, (cost_end[chunks] * t + threads - 1) / threads) - cost_end);
     };
     const std::size_t run_end = thread + 1 == threads ? chunks : run_start(thread + 1);
-    for (std::size_t chunk = thread == 0 ? 0 : run_start(thread); chunk < run_end; ++chunk) {
+    for (std::size_t chunk = run_start(thread); chunk < run_end; ++chunk) {
       const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
       batch.clear();
       for (std::size_t q = first; q < last; ++q) {
@@ -967,8 +989,8 @@ void World::collide_and_compute_forces() {
   }
 }
 
-// Each body's sum over its pairs in key order (the order of a serial loop over the sorted
-// pairs), so that the sums are the same whatever the threads; the pair loop gave the two ends
+// Each body's sum over its pairs in the order of their other body's index (the order of a
+// serial loop over the pairs sorted by body index), so that the sums are the same whatever the threads; the pair loop gave the two ends
 // of a pair opposite forces (Newton's third law). Pairs that do not touch carry zeros, which
 // leave a sum unchanged. Then each grain's acceleration (paper eq. 1) and the corrector, and a
 // check that the grain's state is still finite.

@@ -4,11 +4,12 @@
 //   move (predict, place shapes) -> find pairs -> collide and compute forces -> gather, correct.
 //
 // Pairs live on a Verlet list (sorted by pair key) that is rebuilt only when some body has
-// moved farther than its margin. Everything a pair carries from step to step sits beside its entry: the
-// contact of the last step (with its tangential spring) and the narrow phase's hint. A step
-// then streams through the list in order, each pair on its own (so in parallel, in any order),
-// and each body sums its pairs' forces in key order through a per-body index of the list built
-// with it: the sums, and so the results, do not depend on the number of threads.
+// moved farther than its margin. Everything a pair carries from step to step sits beside its
+// entry: the contact of the last step (with its tangential spring) and the narrow phase's hint.
+// A step then streams through the list in order, each pair on its own (so in parallel, in any
+// order), and each body sums its pairs' forces in the order of the other body's index, through
+// a per-body index of the list built with it: the sums, and so the results, do not depend on
+// the number of threads.
 //
 // Bodies are known by their index (walls first, then grains, in the order they were added), but
 // stored in slots that the world puts in the order of their place every few thousand steps
@@ -238,7 +239,9 @@ class World {
   std::vector<Contact> pair_contact_;
   std::vector<std::uint8_t> pair_touching_;
   std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
-  struct ChunkScratch {  // what a thread of the pair loop works in, one chunk of pairs at a time
+  // What a thread of the pair loop works in, one chunk of pairs at a time; on cache lines of its
+  // own, so that one thread's writes never share a line with another's.
+  struct alignas(64) ChunkScratch {
     std::vector<Overlap> overlaps;
     std::vector<std::uint8_t> outcome, touched;
     std::vector<std::size_t> batch, touching;

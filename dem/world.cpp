@@ -13,6 +13,7 @@
 #include "common/portable_math.h"
 #include "dem/contact_law_x4.h"
 #include "dem/convex_overlap.h"
+#include "dem/rotation_x4.h"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -350,12 +351,15 @@ void World::permute_bodies(const std::vector<int>& body_at) {
   index_pairs_by_body();  // with zero loads: the next pair loop writes those of the pairs that touch
 }
 
-[[gnu::always_inline]] inline void World::place_body(int slot) {
-  const int first = geometry_[slot].first_corner, count = geometry_[slot].corner_count;
-  if (count == 0) return;  // a disc
-  const double th = motion_.d[0][3 * slot + 2];
+void World::place_body(int slot) {
+  if (geometry_[slot].corner_count == 0) return;  // a disc
   double sn, c;
-  rotation_sincos(th, sn, c);  // one reduction for both
+  rotation_sincos(motion_.d[0][3 * slot + 2], sn, c);  // one reduction for both
+  place_corners(slot, sn, c);
+}
+
+[[gnu::always_inline]] inline void World::place_corners(int slot, double sn, double c) {
+  const int first = geometry_[slot].first_corner, count = geometry_[slot].corner_count;
   // p + R(theta) v for each body-frame corner v, both coordinates in one register:
   // (px, py) + vx (c, s) + vy (-s, c). The same bits as vec2.h's rotate: vy (-s) is -(s vy)
   // exactly, and adding it is subtracting s vy.
@@ -402,16 +406,27 @@ bool World::move_grains() {
   const int n = static_cast<int>(active_slots_.size());
   const bool listed = !neighbours_stale_ && listed_margin_.size() == static_cast<std::size_t>(body_count());
   bool outdated = !listed;
+  // Four grains at a time: their rotations are computed together (rotation_sincos_x4).
+  const int blocks = (n + 3) / 4;
 #pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
-  for (int k = 0; k < n; ++k) {
-    const int i = active_slots_[k];
-    stepper.predict(motion_, i);
-    place_body(i);
-    if (listed) {
-      const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
-      outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
-      displacement_[i] =
-          std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(motion_.d[0][3 * i + 2] - listed_angle_[i]);
+  for (int block = 0; block < blocks; ++block) {
+    const int* const slot = active_slots_.data() + 4 * block;
+    const int count = std::min(4, n - 4 * block);
+    double angle[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], c[4];
+    for (int lane = 0; lane < count; ++lane) {
+      stepper.predict(motion_, slot[lane]);
+      angle[lane] = motion_.d[0][3 * slot[lane] + 2];
+    }
+    rotation_sincos_x4(angle, sn, c);
+    for (int lane = 0; lane < count; ++lane) {
+      const int i = slot[lane];
+      if (geometry_[i].corner_count > 0) place_corners(i, sn[lane], c[lane]);
+      if (listed) {
+        const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
+        outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
+        displacement_[i] =
+            std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(motion_.d[0][3 * i + 2] - listed_angle_[i]);
+      }
     }
   }
   for (int w : moving_walls_) {  // prescribed motion: x += v dt (walls keep their own slots)

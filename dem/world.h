@@ -191,7 +191,8 @@ class World {
   void index_pairs_by_body();
   void collide_and_compute_forces();
   void gather_and_correct();
-  void place_body(int slot);
+  void place_body(int slot);                           // its corners from its place and angle
+  void place_corners(int slot, double sine, double cosine);  // the same, given its angle's sine and cosine
   void order_bodies_by_place();
   void permute_bodies(const std::vector<int>& body_at);
   Vec2 slot_position(int slot) const { return {motion_.d[0][3 * slot], motion_.d[0][3 * slot + 1]}; }

@@ -406,21 +406,23 @@ bool World::move_grains() {
   const int n = static_cast<int>(active_slots_.size());
   const bool listed = !neighbours_stale_ && listed_margin_.size() == static_cast<std::size_t>(body_count());
   bool outdated = !listed;
-  // Four grains at a time: their rotations are computed together (rotation_sincos_x4).
-  const int blocks = (n + 3) / 4;
+  // Grains in blocks: the rotations of a block's grains are computed together, four in the
+  // lanes of a vector and several such groups in flight (rotation_sincos_x4).
+  constexpr int block_size = 32;
+  const int blocks = (n + block_size - 1) / block_size;
 #pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
   for (int block = 0; block < blocks; ++block) {
-    const int* const slot = active_slots_.data() + 4 * block;
-    const int count = std::min(4, n - 4 * block);
-    double angle[4] = {0.0, 0.0, 0.0, 0.0}, sn[4], c[4];
-    for (int lane = 0; lane < count; ++lane) {
-      stepper.predict(motion_, slot[lane]);
-      angle[lane] = motion_.d[0][3 * slot[lane] + 2];
+    const int* const slot = active_slots_.data() + block_size * block;
+    const int count = std::min(block_size, n - block_size * block);
+    double angle[block_size], sn[block_size], c[block_size];
+    for (int k = 0; k < count; ++k) {
+      stepper.predict(motion_, slot[k]);
+      angle[k] = motion_.d[0][3 * slot[k] + 2];
     }
-    rotation_sincos_x4(angle, sn, c);
-    for (int lane = 0; lane < count; ++lane) {
-      const int i = slot[lane];
-      if (geometry_[i].corner_count > 0) place_corners(i, sn[lane], c[lane]);
+    rotation_sincos_x4(angle, sn, c, count);
+    for (int k = 0; k < count; ++k) {
+      const int i = slot[k];
+      if (geometry_[i].corner_count > 0) place_corners(i, sn[k], c[k]);
       if (listed) {
         const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
         outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
@@ -759,8 +761,9 @@ void World::collide_and_compute_forces() {
       c.overlaps.resize(pair_chunk);
       c.outcome.resize(pair_chunk);
       c.touched.resize(pair_chunk);
-      c.batch.reserve(pair_chunk);
-      c.touching.reserve(pair_chunk);
+      c.open.resize(pair_chunk);
+      c.batch.resize(pair_chunk);
+      c.touching.resize(pair_chunk);
     }
   }
   ChunkScratch* const chunk_scratch = chunk_scratch_.data();
@@ -796,12 +799,12 @@ void World::collide_and_compute_forces() {
     // The pairs whose hint is a corner of one polygon in an edge of the other, four at a time
     // (two_crossing::corner_in_edge_x4); each pair's overlap to done(q, overlap), or a null
     // overlap where the batch could not prove it.
-    const auto batched_corner_in_edge = [&](const std::vector<std::size_t>& pairs, auto&& done) {
+    const auto batched_corner_in_edge = [&](const std::size_t* pairs, std::size_t count, auto&& done) {
       two_crossing::CornerInEdgeBatch in;
       two_crossing::CornerInEdgeOverlaps out;
       bool corner_of_b[4];
-      for (std::size_t first = 0; first < pairs.size(); first += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, pairs.size() - first);
+      for (std::size_t first = 0; first < count; first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, count - first);
         for (std::size_t lane = 0; lane < 4; ++lane) {
           const std::size_t q = pairs[first + std::min(lane, lanes - 1)];  // spare lanes repeat the last
           const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
@@ -844,37 +847,37 @@ void World::collide_and_compute_forces() {
         }
       }
     };
-    // One listed pair's narrow phase: its exact broad-phase test and its overlap, o. Returns
-    // apart, overlap (o holds it) or deferred: a corner-in-edge contact by its hint, left to
-    // the batch.
+    // The exact broad-phase test of a listed pair: bounding circles, or a grain's circle against
+    // a wall's box (the wall's pairs come first in the list, so that branch is foreseeable).
+    const auto may_touch = [&](std::size_t q) -> bool {
+      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+      const BodyGeometry& sb = geometry[b];
+      const Vec2 pb(x[3 * b], x[3 * b + 1]);
+      if (a < wall_count) return circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a]);
+      const Vec2 pa(x[3 * a], x[3 * a + 1]);
+      const double r = geometry[a].bounding_radius + sb.bounding_radius;
+      return (pb - pa).squaredNorm() < r * r;
+    };
+    // A polygon pair proven apart stays apart until its corners have moved as far as the gap
+    // was. Between two steps they moved at most the sum of their displacements from the list's
+    // build at both.
+    const auto proven_apart_still = [&](std::size_t q) -> bool {
+      const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
+      const bool polygons = !geometry[a].is_disc & !geometry[b].is_disc;
+      return polygons & (displacement[a] + displacement[b] < apart_until[q]);
+    };
+    // The narrow phase of a candidate pair not proven apart: its overlap, o. Returns apart,
+    // overlap (o holds it) or deferred: a corner-in-edge contact by its hint, left to the batch.
     enum Narrow : std::uint8_t { apart, overlap, deferred };
     const auto narrow = [&](std::size_t q, Overlap& o) -> Narrow {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-      const bool a_is_wall = a < wall_count;
       const BodyGeometry& sa = geometry[a];
       const BodyGeometry& sb = geometry[b];
       const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
-      // The exact broad-phase test: bounding circles, or a grain's circle against a wall's box.
-      if (a_is_wall) {
-        if (!circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a])) return apart;
-      } else {
-        const double r = sa.bounding_radius + sb.bounding_radius;
-        if ((pb - pa).squaredNorm() >= r * r) return apart;
-      }
-      ++candidates;
-
       const Vec2* const corners_a = world_vertices + sa.first_corner;
       const Vec2* const corners_b = world_vertices + sb.first_corner;
       const int count_a = sa.corner_count, count_b = sb.corner_count;
       if (!sa.is_disc && !sb.is_disc) {
-        // A pair proven apart stays apart until its corners have moved as far as the gap was.
-        // Between two steps they moved at most the sum of their displacements from the list's
-        // build at both.
-        const double moved = displacement[a] + displacement[b];
-        if (moved < apart_until[q]) {
-          ++proven_apart;
-          return apart;
-        }
         if (two_crossing::corner_in_edge_hint(hints[q], count_a, count_b)) return deferred;
         if (!polygon_overlap(q, o)) return apart;
       } else if (sa.is_disc && sb.is_disc) {
@@ -891,12 +894,12 @@ void World::collide_and_compute_forces() {
     // The contact law of touching pairs, four at a time (contact_law_x4), given each pair's
     // overlap and whether it touched at the last step (whose spring it then continues); their
     // loads and the deepest overlap. Spare lanes repeat the last pair and are not stored.
-    const auto apply_contact_law = [&](const std::vector<std::size_t>& pairs, const Overlap* overlaps,
+    const auto apply_contact_law = [&](const std::size_t* pairs, std::size_t count, const Overlap* overlaps,
                                        const std::uint8_t* touched, std::size_t first_pair) {
       ContactLanes in;
       ContactLaneForces out;
-      for (std::size_t first = 0; first < pairs.size(); first += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, pairs.size() - first);
+      for (std::size_t first = 0; first < count; first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, count - first);
         for (std::size_t lane = 0; lane < 4; ++lane) {
           const std::size_t q = pairs[first + std::min(lane, lanes - 1)];
           const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
@@ -955,7 +958,8 @@ void World::collide_and_compute_forces() {
     ChunkScratch& scratch = chunk_scratch[thread];
     std::vector<Overlap>& overlaps = scratch.overlaps;
     std::vector<std::uint8_t>&outcome = scratch.outcome, &touched = scratch.touched;
-    std::vector<std::size_t>&batch = scratch.batch, &touching = scratch.touching;
+    std::size_t *const open = scratch.open.data(), *const batch = scratch.batch.data(),
+                      *const touching = scratch.touching.data();
     // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
     // later (0 for the first thread); the last thread's run ends at the last chunk.
     const auto run_start = [&](std::size_t t) {
@@ -964,12 +968,34 @@ void World::collide_and_compute_forces() {
     const std::size_t run_end = thread + 1 == threads ? chunks : run_start(thread + 1);
     for (std::size_t chunk = run_start(thread); chunk < run_end; ++chunk) {
       const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
-      batch.clear();
+      // The chunk's pairs pass through filters, each writing the list of those that pass on
+      // without a branch (every pair is written, the count advanced if it passes): the outcome
+      // of each test is close to a coin's toss, which the processor would mispredict.
+      std::size_t open_count = 0;  // the candidates, then those of them not proven apart
       for (std::size_t q = first; q < last; ++q) {
-        outcome[q - first] = narrow(q, overlaps[q - first]);
-        if (outcome[q - first] == deferred) batch.push_back(q);
+        outcome[q - first] = apart;
+        open[open_count] = q;
+        open_count += may_touch(q);
       }
-      batched_corner_in_edge(batch, [&](std::size_t q, const Overlap* o) {
+      candidates += open_count;
+      const std::size_t candidate_count = open_count;
+      open_count = 0;
+      for (std::size_t k = 0; k < candidate_count; ++k) {
+        const std::size_t q = open[k];
+        const bool proven = proven_apart_still(q);
+        open[open_count] = q;
+        open_count += !proven;
+        proven_apart += proven;
+      }
+      std::size_t deferred_count = 0;
+      for (std::size_t k = 0; k < open_count; ++k) {
+        const std::size_t q = open[k];
+        const Narrow result = narrow(q, overlaps[q - first]);
+        outcome[q - first] = result;
+        batch[deferred_count] = q;
+        deferred_count += result == deferred;
+      }
+      batched_corner_in_edge(batch, deferred_count, [&](std::size_t q, const Overlap* o) {
         Overlap& slot = overlaps[q - first];
         if (o)
           slot = *o;
@@ -977,16 +1003,17 @@ void World::collide_and_compute_forces() {
           slot = Overlap{};
         outcome[q - first] = slot.touching() ? overlap : apart;
       });
-      touching.clear();
+      std::size_t touching_count = 0;
       for (std::size_t q = first; q < last; ++q) {
-        touched[q - first] = pair_touching[q];
-        pair_touching[q] = outcome[q - first] == overlap;
-        if (pair_touching[q])
-          touching.push_back(q);
-        else if (touched[q - first])  // zero loads at its ends, which held some only if it touched
+        const std::uint8_t was = pair_touching[q], is = outcome[q - first] == overlap;
+        touched[q - first] = was;
+        pair_touching[q] = is;
+        touching[touching_count] = q;
+        touching_count += is;
+        if (was > is)  // stopped touching: zero loads at its ends, which held some only if it touched
           end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
       }
-      apply_contact_law(touching, overlaps.data(), touched.data(), first);
+      apply_contact_law(touching, touching_count, overlaps.data(), touched.data(), first);
     }
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && body_key(deepest_pair) < body_key(step_deepest_pair))) {

@@ -245,7 +245,7 @@ class World {
   struct alignas(64) ChunkScratch {
     std::vector<Overlap> overlaps;
     std::vector<std::uint8_t> outcome, touched;
-    std::vector<std::size_t> batch, touching;
+    std::vector<std::size_t> open, batch, touching;  // pairs still open, deferred to the batch, touching
   };
   std::vector<ChunkScratch> chunk_scratch_;  // one per thread
   std::vector<OverlapHint> pair_hint_;

@@ -25,7 +25,7 @@ void expect_lanes_match_scalar(const std::vector<double>& angles, std::mt19937_6
       double x[4], s[4], c[4];
       for (double& other : x) other = angles[pick(random)];
       x[lane] = angle;
-      rotation_sincos_x4(x, s, c);
+      rotation_sincos_x4(x, s, c, 4);
       for (int k = 0; k < 4; ++k) {
         double expected_s, expected_c;
         rotation_sincos(x[k], expected_s, expected_c);
@@ -61,6 +61,22 @@ TEST(RotationX4, ArgumentsOffTheFastPathHaveTheScalarBits) {
   const std::vector<double> angles = {0.0, -0.0, 1e-300, -1e-20, 0x1p-27, std::nextafter(0x1p-27, 0.0), 0x1p20,
                                       std::nextafter(0x1p20, 0.0), -0x1p20, 1e21, -3e300, inf, -inf, nan, 0.5};
   expect_lanes_match_scalar(angles, random);
+}
+
+TEST(RotationX4, AnyCountHasTheScalarBitsAndWritesNothingBeyond) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> turn(-10.0, 10.0);
+  for (int count = 0; count <= 37; ++count) {
+    std::vector<double> x(count + 4), s(count + 4, -7.0), c(count + 4, -7.0);
+    for (double& a : x) a = turn(random);
+    rotation_sincos_x4(x.data(), s.data(), c.data(), count);
+    for (int k = 0; k < count; ++k) {
+      double expected_s, expected_c;
+      rotation_sincos(x[k], expected_s, expected_c);
+      ASSERT_TRUE(same_bits(s[k], expected_s) && same_bits(c[k], expected_c)) << "angle " << k << " of " << count;
+    }
+    for (int k = count; k < count + 4; ++k) ASSERT_TRUE(s[k] == -7.0 && c[k] == -7.0) << "wrote past " << count;
+  }
 }
 
 }  // namespace

@@ -856,7 +856,7 @@ void World::collide_and_compute_forces() {
       if (a < wall_count) return circle_meets_box(pb.x(), pb.y(), sb.bounding_radius, wall_lo[a], wall_hi[a]);
       const Vec2 pa(x[3 * a], x[3 * a + 1]);
       const double r = geometry[a].bounding_radius + sb.bounding_radius;
-      return (pb - pa).squaredNorm() < r * r;
+      return !((pb - pa).squaredNorm() >= r * r);  // a NaN distance goes on to the narrow phase, as before
     };
     // A polygon pair proven apart stays apart until its corners have moved as far as the gap
     // was. Between two steps they moved at most the sum of their displacements from the list's

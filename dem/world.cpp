@@ -352,7 +352,6 @@ void World::permute_bodies(const std::vector<int>& body_at) {
 }
 
 void World::place_body(int slot) {
-  if (geometry_[slot].corner_count == 0) return;  // a disc
   double sn, c;
   rotation_sincos(motion_.d[0][3 * slot + 2], sn, c);  // one reduction for both
   place_corners(slot, sn, c);
@@ -360,6 +359,7 @@ void World::place_body(int slot) {
 
 [[gnu::always_inline]] inline void World::place_corners(int slot, double sn, double c) {
   const int first = geometry_[slot].first_corner, count = geometry_[slot].corner_count;
+  if (count == 0) return;  // a disc
   // p + R(theta) v for each body-frame corner v, both coordinates in one register:
   // (px, py) + vx (c, s) + vy (-s, c). The same bits as vec2.h's rotate: vy (-s) is -(s vy)
   // exactly, and adding it is subtracting s vy.
@@ -376,8 +376,9 @@ void World::place_body(int slot) {
 
 // One step, in four passes: each grain moves and takes its new shape; the pair list is renewed
 // if some body went beyond its margin; every listed pair collides; each grain sums its forces
-// and completes its step. The passes over the grains split them among the threads the same way,
-// so each thread keeps its grains' data in its own cache.
+// and completes its step. The passes over the grains give each thread about the same part of
+// the slots (move in blocks of 32, the others grain by grain), so each thread keeps most of its
+// grains' data in its own cache.
 void World::step() {
   auto t0 = Clock::now();
   const bool list_outdated = move_grains();
@@ -422,7 +423,7 @@ bool World::move_grains() {
     rotation_sincos_x4(angle, sn, c, count);
     for (int k = 0; k < count; ++k) {
       const int i = slot[k];
-      if (geometry_[i].corner_count > 0) place_corners(i, sn[k], c[k]);
+      place_corners(i, sn[k], c[k]);
       if (listed) {
         const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
         outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];

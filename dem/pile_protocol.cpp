@@ -258,6 +258,44 @@ void PileProtocol::try_insert() {
 
 void PileProtocol::check_state_is_finite() const { world_.require_finite_state(); }
 
+double PileProtocol::energy_fed_in() const {
+  const PourSpec& p = scene_.pour;
+  const double u2 = p.funnel_speed * p.funnel_speed;
+  // Per kilogram: at the outlet (u, -v_in) and the fall to the loss height; then a funnel wall
+  // moving at u: 1/2 (2u)^2. The gravity ramp only lowers g, so the scene's g bounds it.
+  const double per_kg = 0.5 * (u2 + p.inflow_speed * p.inflow_speed) + 2.0 * u2 +
+                        scene_.gravity * (p.funnel_height - scene_.container.lost_below);
+  double poured_mass = 0.0;
+  for (int b = first_grain_; b < first_grain_ + state_.poured; ++b) poured_mass += world_.mass(b);
+  return per_kg * poured_mass;
+}
+
+double PileProtocol::mechanical_energy() const {
+  const Vec2 g = world_.settings().gravity;
+  double potential = 0.0;
+  for (int i : world_.active_grains())
+    potential -= world_.mass(i) * g.dot(world_.position(i) - Vec2(0.0, scene_.container.lost_below));
+  return world_.kinetic_energy() + potential;
+}
+
+void PileProtocol::check_energy_is_bounded() const {
+  const double energy = mechanical_energy(), fed_in = energy_fed_in();
+  if (!(energy > energy_growth_limit * fed_in)) return;
+  int fastest = -1;
+  double fastest_speed = -1.0;
+  for (int i : world_.active_grains())
+    if (world_.velocity(i).norm() > fastest_speed) fastest = i, fastest_speed = world_.velocity(i).norm();
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "the DEM run creates energy at t = %.9g s (step %lld): the grains' kinetic and potential energy, "
+                "%.4g J, exceeds %g times the most the pour can have put in, %.4g J; the fastest is body %d at "
+                "%.4g m/s. The explicit integration is unstable: the time step is above the stability limit "
+                "(dem.integrator), or the contacts are stiffer than the step allows",
+                world_.time(), static_cast<long long>(world_.steps()), energy, energy_growth_limit, fed_in, fastest,
+                fastest_speed);
+  throw std::runtime_error(text);
+}
+
 void PileProtocol::remove_lost_grains() {
   std::vector<int> lost;
   for (int i : world_.active_grains())
@@ -316,6 +354,7 @@ void PileProtocol::step() {
   world_.step();
   if (world_.steps() % check_interval == 0) {
     check_state_is_finite();
+    check_energy_is_bounded();  // before the losses, which would carry the evidence away
     remove_lost_grains();
     advance_phase();
   }

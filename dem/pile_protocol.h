@@ -78,6 +78,17 @@ class PileProtocol {
   const std::vector<WallPlacement>& wall_placements() const { return wall_placements_; }
   /// Mean kinetic energy per active grain [J].
   double kinetic_energy_per_grain() const;
+  /// The most mechanical energy the pour can have put in so far [J], counted from the height at
+  /// which grains are lost: each poured grain's kinetic energy at the outlet, its fall from the
+  /// outlet to that height, and what a moving funnel can add (a grain bouncing off a wall that
+  /// moves at u leaves it at 2u at most). Contacts only dissipate and gravity only falls, so the
+  /// grains' kinetic plus potential energy stays below this in any run that is stable.
+  double energy_fed_in() const;
+  /// The active grains' kinetic energy plus their potential energy above the loss height [J].
+  double mechanical_energy() const;
+  /// A run whose mechanical energy exceeds this multiple of energy_fed_in() creates energy: the
+  /// explicit scheme is unstable (a step above the limit), and the pile protocol stops it.
+  static constexpr double energy_growth_limit = 2.0;
   /// What a body is, with its index, for messages: "the plate (body 0)", "a grain (body 47)".
   std::string body_name(int body) const;
 
@@ -90,6 +101,7 @@ class PileProtocol {
   void build_container();
   void try_insert();
   void check_state_is_finite() const;  ///< throws, naming the first grain that is not
+  void check_energy_is_bounded() const;  ///< throws, naming the time, step and fastest grain
   void remove_lost_grains();
   void advance_phase();
   double funnel_x(double t) const;

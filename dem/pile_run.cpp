@@ -128,6 +128,18 @@ double kinetic_energy_per_grain(const World& w, const Snapshot& s) {
 std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::json& report) {
   std::vector<std::string> warnings;
   char text[512];
+  // First, because it explains the warnings after it: above the limit the stiffest contacts
+  // feed energy in each step, faster than the pile-wide energy check (PileProtocol) sees when
+  // the step is only a few times the limit; the pile then stays agitated and sheds grains.
+  const double limit = p.time_step_bound().stable_limit, step = p.world().settings().time_step;
+  if (step > limit) {
+    std::snprintf(text, sizeof text,
+                  "the time step %.3g s is %.3g times the stability limit %.3g s (dem.integrator."
+                  "allow_unstable_time_step): the stiffest contacts gain energy each step, so a pile that does not "
+                  "come to rest or grains that leave the plate are artefacts of the step, not physics",
+                  step, step / limit, limit);
+    warnings.emplace_back(text);
+  }
   if (p.state().lost > 0) {
     const int lost = p.state().lost;
     std::snprintf(text, sizeof text, "%d grain%s fell off the plate; a wider dem.container.plate_width_m keeps them",

@@ -134,7 +134,7 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   const double limit = p.time_step_bound().stable_limit, step = p.world().settings().time_step;
   if (step > limit) {
     std::snprintf(text, sizeof text,
-                  "the time step %.3g s is %.3g times the stability limit %.3g s (dem.integrator."
+                  "the time step %.4g s is %.4g times the stability limit %.3g s (dem.integrator."
                   "allow_unstable_time_step): the stiffest contacts gain energy each step, so a pile that does not "
                   "come to rest or grains that leave the plate are artefacts of the step, not physics",
                   step, step / limit, limit);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -47,8 +48,10 @@ TEST(PileProtocolEnergy, AFallingGrainHoldsExactlyWhatThePourPutIn) {
 
 TEST(PileProtocolEnergy, AStablePourNeverHoldsMoreThanItWasGiven) {
   // Contacts dissipate and the gravity ramp only lowers g: at a stable step the grains' energy
-  // stays below what the pour put in, up to the integrator's bounded energy error on the small
-  // part of it stored in contacts (1e-3 of the total is far above it).
+  // stays below what the pour put in, up to the integrator's energy error. That error is at
+  // most of the order of the energy stored in the contacts, F delta / 2 with delta ~ F / E: for
+  // grains of 0.2 kg under a few grains' weight at E = 1e7 N/m, some 1e-5 of their fall of
+  // 0.16 m. 1e-3 leaves a wide margin.
   for (Scheme scheme : {Scheme::verlet, Scheme::leapfrog, Scheme::gear5}) {
     DemScene scene = small_pile(scheme);
     scene.relax.enabled = true;
@@ -61,7 +64,9 @@ TEST(PileProtocolEnergy, AStablePourNeverHoldsMoreThanItWasGiven) {
         worst = std::max(worst, p.mechanical_energy() / p.energy_fed_in());
     }
     EXPECT_LE(worst, 1.0 + 1e-3) << scheme_name(scheme);
-    EXPECT_GT(worst, 0.5) << "the first grain's fall holds all the energy fed in: " << scheme_name(scheme);
+    // The first check comes while the first grain still falls alone, holding all the energy
+    // fed in (the falling-grain test above), within the scheme's error on a free fall.
+    EXPECT_GT(worst, 1.0 - 1e-3) << scheme_name(scheme);
   }
 }
 
@@ -76,11 +81,9 @@ TEST(PileProtocolEnergy, TenTimesTheStabilityLimitStopsNamingTheTimeAndTheFastes
     FAIL() << "ten times the limit ran to the end";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    // The finite-state check runs first and may catch an overflow before the energy check.
-    EXPECT_TRUE(what.find("creates energy at t = ") != std::string::npos ||
-                what.find("no longer finite at t = ") != std::string::npos)
-        << what;
-    EXPECT_NE(what.find("body "), std::string::npos) << what;
+    // No number overflows that soon: the energy check stops it, naming the fastest grain.
+    EXPECT_NE(what.find("creates energy at t = "), std::string::npos) << what;
+    EXPECT_NE(what.find("the fastest is a grain (body "), std::string::npos) << what;
   }
 }
 

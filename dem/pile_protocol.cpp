@@ -286,8 +286,10 @@ void PileProtocol::check_energy_is_bounded() const {
   if (!(energy > energy_growth_limit * fed_in)) return;
   int fastest = -1;
   double fastest_speed = -1.0;
-  for (int i : world_.active_grains())
-    if (world_.velocity(i).norm() > fastest_speed) fastest = i, fastest_speed = world_.velocity(i).norm();
+  for (int i : world_.active_grains()) {
+    const double speed = world_.velocity(i).norm();
+    if (speed > fastest_speed) fastest = i, fastest_speed = speed;
+  }
   char text[640];
   std::snprintf(text, sizeof text,
                 "the DEM run creates energy at t = %.9g s (step %lld): the grains' kinetic and potential energy, "

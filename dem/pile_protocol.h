@@ -80,9 +80,10 @@ class PileProtocol {
   double kinetic_energy_per_grain() const;
   /// The most mechanical energy the pour can have put in so far [J], counted from the height at
   /// which grains are lost: each poured grain's kinetic energy at the outlet, its fall from the
-  /// outlet to that height, and what a moving funnel can add (a grain bouncing off a wall that
-  /// moves at u leaves it at 2u at most). Contacts only dissipate and gravity only falls, so the
-  /// grains' kinetic plus potential energy stays below this in any run that is stable.
+  /// outlet to that height, and an estimate of what a moving funnel adds (a grain at rest that
+  /// bounces off a wall moving at u leaves it at 2u). Contacts only dissipate and gravity only
+  /// falls, so in a stable run the grains' kinetic plus potential energy stays below this (with
+  /// a fixed funnel strictly; docs/DEM.md, "Protocol").
   double energy_fed_in() const;
   /// The active grains' kinetic energy plus their potential energy above the loss height [J].
   double mechanical_energy() const;

@@ -129,8 +129,8 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   std::vector<std::string> warnings;
   char text[512];
   // First, because it explains the warnings after it: above the limit the stiffest contacts
-  // feed energy in each step, faster than the pile-wide energy check (PileProtocol) sees when
-  // the step is only a few times the limit; the pile then stays agitated and sheds grains.
+  // feed energy in each step. At a few times the limit they do so too slowly for the pile-wide
+  // energy check (PileProtocol) to stop the run, and the pile stays agitated and sheds grains.
   const double limit = p.time_step_bound().stable_limit, step = p.world().settings().time_step;
   if (step > limit) {
     std::snprintf(text, sizeof text,

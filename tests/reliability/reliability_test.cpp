@@ -94,9 +94,10 @@ TEST_F(Reliability, AReadOnlyFileSystemIsFoundBeforeTheRun) {
 }
 
 TEST_F(Reliability, ATimeStepFarAboveTheLimitStops) {
-  // Forced to 28 times the stability limit (4e-4 s against 1.43e-5 s), the contacts gain energy each step: the run must
-  // stop, when the grains hold more energy than the pour put in or when a number overflows,
-  // whichever comes first, naming a grain, the time and the step, and write no dem.h5.
+  // Forced to 28 times the stability limit (4e-4 s against 1.43e-5 s), the contacts gain
+  // energy each step: the run must stop, when the grains hold more energy than the pour put in
+  // or when a number overflows, whichever comes first, naming a grain, the time and the step,
+  // and write no dem.h5.
   std::string text = tiny_scene();
   const std::string scheme = "scheme = \"verlet\"";
   text.replace(text.find(scheme), scheme.size(),

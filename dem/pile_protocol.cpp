@@ -301,6 +301,23 @@ void PileProtocol::check_energy_is_bounded() const {
   throw std::runtime_error(text);
 }
 
+void PileProtocol::check_contacts_are_stable() const {
+  const SwingingContact& swing = world_.longest_swing();
+  if (swing.steps < unstable_swing_steps) return;
+  const double dt = world_.settings().time_step, limit = time_step_bound().stable_limit;
+  char text[768];
+  std::snprintf(text, sizeof text,
+                "a contact oscillates with a period of two time steps at t = %.9g s (step %lld): by t = %.9g s "
+                "the overlap of %s and %s at x = %.4g m, y = %.4g m had grown and shrunk in turn %d steps in a row "
+                "(a stable contact's "
+                "oscillation spans more than two steps). The explicit integration is unstable for this contact: "
+                "the time step, %.4g s, is %.3g times the stability limit %.4g s (dem.integrator), or the "
+                "contacts are stiffer than the step allows",
+                world_.time(), static_cast<long long>(world_.steps()), swing.time, body_name(swing.a).c_str(), body_name(swing.b).c_str(), swing.point.x(), swing.point.y(),
+                swing.steps, dt, dt / limit, limit);
+  throw std::runtime_error(text);
+}
+
 void PileProtocol::remove_lost_grains() {
   std::vector<int> lost;
   for (int i : world_.active_grains())
@@ -360,6 +377,7 @@ void PileProtocol::step() {
   if (world_.steps() % check_interval == 0) {
     check_state_is_finite();
     check_energy_is_bounded();  // before the losses, which would carry the evidence away
+    check_contacts_are_stable();
     remove_lost_grains();
     advance_phase();
   }

@@ -90,6 +90,12 @@ class PileProtocol {
   /// A run whose mechanical energy exceeds this multiple of energy_fed_in() creates energy: the
   /// explicit scheme is unstable (a step above the limit), and the pile protocol stops it.
   static constexpr double energy_growth_limit = 2.0;
+  /// A contact whose overlap grows and shrinks in turn for this many steps in a row
+  /// (World::longest_swing) oscillates at the period of two steps: the explicit scheme is
+  /// unstable for it, and the pile protocol stops the run. A stable mode reverses its change
+  /// this often in a row only within a fraction of a per cent of its limit; the runs measured at
+  /// up to 1.5 times the limit reversed at most 4 times (docs/studies/extremes.md).
+  static constexpr int unstable_swing_steps = 16;
   /// What a body is, with its index, for messages: "the plate (body 0)", "a grain (body 47)".
   std::string body_name(int body) const;
 
@@ -103,6 +109,7 @@ class PileProtocol {
   void try_insert();
   void check_state_is_finite() const;  ///< throws, naming the first grain that is not
   void check_energy_is_bounded() const;  ///< throws, naming the time, step and fastest grain
+  void check_contacts_are_stable() const;  ///< throws, naming the contact that swings
   void remove_lost_grains();
   void advance_phase();
   double funnel_x(double t) const;

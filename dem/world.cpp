@@ -171,6 +171,7 @@ void World::restore_contacts(std::vector<Contact> contacts) {
   neighbours_.clear();
   pair_contact_.clear();
   pair_touching_.clear();
+  pair_swing_.clear();
   pair_hint_.clear();
   pair_apart_until_.clear();
   end_load_.clear();
@@ -657,7 +658,7 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
 void World::reorder_pair_data(const std::vector<std::size_t>& earlier) {
   const std::size_t n = earlier.size();
   std::vector<Contact> contact(n);
-  std::vector<std::uint8_t> touching(n, 0);
+  std::vector<std::uint8_t> touching(n, 0), swing(n, 0);
   std::vector<OverlapHint> hint(n);
   std::vector<double> apart_until(n, 0.0);
   for (std::size_t q = 0; q < n; ++q) {
@@ -665,11 +666,13 @@ void World::reorder_pair_data(const std::vector<std::size_t>& earlier) {
     if (old == no_pair) continue;
     contact[q] = pair_contact_[old];
     touching[q] = pair_touching_[old];
+    swing[q] = pair_swing_[old];
     hint[q] = pair_hint_[old];
     apart_until[q] = pair_apart_until_[old];
   }
   pair_contact_.swap(contact);
   pair_touching_.swap(touching);
+  pair_swing_.swap(swing);
   pair_hint_.swap(hint);
   pair_apart_until_.swap(apart_until);
 }
@@ -717,6 +720,8 @@ void World::collide_and_compute_forces() {
   // in and the slots.
   double step_deepest = 0.0;
   std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0, proven_apart = 0;
+  int step_longest_swing = 0;
+  std::size_t step_longest_swing_pair = n;
 
   // The arrays the loop reads and writes, as plain pointers: the compiler cannot tell that the
   // stores into the pair arrays leave the vectors' own bookkeeping alone, and would reload it.
@@ -731,6 +736,7 @@ void World::collide_and_compute_forces() {
   const Vec2* const wall_hi = wall_hi_.data();
   const int wall_count = wall_count_;
   std::uint8_t* const pair_touching = pair_touching_.data();
+  std::uint8_t* const pair_swing = pair_swing_.data();
   OverlapHint* const hints = pair_hint_.data();
   double* const apart_until = pair_apart_until_.data();
   const double* const displacement = displacement_.data();
@@ -775,6 +781,8 @@ void World::collide_and_compute_forces() {
   {
     double deepest = 0.0;
     std::size_t deepest_pair = n;
+    int longest_swing = 0;
+    std::size_t longest_swing_pair = n;
     // The overlap of polygon pair q the scalar way (convex_overlap.h), false if it does not
     // touch; a pair found apart is proven so until its grains have moved as far as the gap.
     const auto polygon_overlap = [&](std::size_t q, Overlap& o) -> bool {
@@ -932,6 +940,18 @@ void World::collide_and_compute_forces() {
           ct.a = a;
           ct.b = b;
           ct.spring = out.spring[lane];
+          // The swing (SwingingContact): does the area's change reverse that of the last step?
+          // ct.area is still the last step's where the contact continues.
+          const double change = o.area - ct.area;
+          const std::uint8_t grew = change > 0.0 ? 0x80 : 0, swing = pair_swing[q];
+          const bool reverses = touched[q - first_pair] != 0 && grew != (swing & 0x80) &&
+                                std::abs(change) > SwingingContact::swing_floor * o.area;
+          const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
+          pair_swing[q] = static_cast<std::uint8_t>(grew | swings);
+          if (swings > longest_swing || (swings == longest_swing && swings > 0 && body_key(q) < body_key(longest_swing_pair))) {
+            longest_swing = swings;
+            longest_swing_pair = q;
+          }
           ct.point = o.point;
           ct.normal = o.normal;
           ct.normal_force = out.normal[lane];
@@ -1021,6 +1041,12 @@ void World::collide_and_compute_forces() {
       step_deepest = deepest;
       step_deepest_pair = deepest_pair;
     }
+#pragma omp critical
+    if (longest_swing > step_longest_swing ||
+        (longest_swing == step_longest_swing && longest_swing > 0 && body_key(longest_swing_pair) < body_key(step_longest_swing_pair))) {
+      step_longest_swing = longest_swing;
+      step_longest_swing_pair = longest_swing_pair;
+    }
   }
   candidate_count_ = candidates;
   proven_apart_count_ = proven_apart;
@@ -1029,6 +1055,10 @@ void World::collide_and_compute_forces() {
   if (step_deepest > deepest_overlap_.fraction) {
     const Contact& ct = pair_contact_[step_deepest_pair];
     deepest_overlap_ = {step_deepest, time_ + dt, ct.point, body_at_[ct.a], body_at_[ct.b]};
+  }
+  if (step_longest_swing > longest_swing_.steps) {
+    const Contact& ct = pair_contact_[step_longest_swing_pair];
+    longest_swing_ = {step_longest_swing, time_ + dt, ct.point, body_at_[ct.a], body_at_[ct.b]};
   }
 }
 

@@ -57,6 +57,24 @@ struct DeepestOverlap {
   std::int32_t a = -1, b = -1;  ///< the bodies, a < b
 };
 
+/// The longest a contact has swung: its overlap area grew and shrank in turn, step after step,
+/// each time by more than swing_floor of the area. Above its stability limit an explicit scheme
+/// amplifies a contact's oscillation through a mode of eigenvalue below -1, whose period is two
+/// steps; a stable mode's period is longer (Verlet at 0.8 of the limit: 3.4 steps), so its swings
+/// fall out of step within a few steps (within 11 at 0.99 of the limit). A contact that swings
+/// for dozens of steps in a row is unstable (time_step.h).
+struct SwingingContact {
+  int steps = 0;          ///< consecutive reversals of the area's change; 0 before any
+  double time = 0.0;      ///< end of the step in which it first reached them [s]
+  Vec2 point{0, 0};       ///< the contact's force point then [m]
+  std::int32_t a = -1, b = -1;  ///< the bodies, a < b
+  /// A reversal counts when the area changed by more than this fraction of itself: far above
+  /// the round-off of an area (about 1e-12 of it), far below a swing that matters.
+  static constexpr double swing_floor = 1e-6;
+  /// The count saturates here (it is kept in 7 bits beside the pair).
+  static constexpr int longest_counted = 127;
+};
+
 /// Wall-clock seconds spent in each phase of the step.
 struct StepProfile {
   double move = 0;            ///< predictor, the grains' corners in their new place (geometry)
@@ -163,6 +181,9 @@ class World {
   void require_finite_state() const;
   /// The deepest overlap met so far (the first, if two steps reach the same depth).
   const DeepestOverlap& deepest_overlap() const { return deepest_overlap_; }
+  /// The contact that has swung longest so far (the first to reach that count). Counted from
+  /// the last restart: a checkpoint does not keep the counts.
+  const SwingingContact& longest_swing() const { return longest_swing_; }
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
   /// The state of every body, in body order, to read or change (the slots return to body order
@@ -239,6 +260,9 @@ class World {
   // narrow phase's hint.
   std::vector<Contact> pair_contact_;
   std::vector<std::uint8_t> pair_touching_;
+  // Each pair's swing (SwingingContact): bit 7 set if its area grew in the last step, bits 0-6
+  // how many steps in a row its change reversed.
+  std::vector<std::uint8_t> pair_swing_;
   std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
   // What a thread of the pair loop works in, one chunk of pairs at a time; on cache lines of its
   // own, so that one thread's writes never share a line with another's.
@@ -270,6 +294,7 @@ class World {
   mutable std::vector<Contact> contacts_;  // assembled by contacts()
   mutable bool contacts_current_ = true;
   DeepestOverlap deepest_overlap_;
+  SwingingContact longest_swing_;
   // Broad-phase cell list.
   std::vector<int> cell_start_, cell_bodies_, body_cell_;
   double max_grain_radius_ = 0.0;

@@ -328,6 +328,68 @@ TEST(World, RecordsTheDeepestOverlap) {
   EXPECT_EQ(w.deepest_overlap().time, first.time);
 }
 
+// A square resting on the plate, undamped and frictionless: the overlap is an s x d rectangle
+// with its force point at its middle, so R = E s d / (s/2 - d/2), a linear spring of stiffness
+// k = 2 E s^2 / (s - d)^2 about the depth d_eq = m g / k where it carries the weight (d << s).
+// Started 1e-5 of d_eq below that depth it oscillates at omega = sqrt(k / m).
+// Above the limit the explicit step amplifies the oscillation through an eigenvalue below -1:
+// the depth swings deeper and shallower in turn, step after step, until the square hops off.
+// Verlet and leapfrog at omega dt = 2.02 (just above their limit 2): |lambda| = 1.22 a step, about
+// 58 steps from 1e-5 of the depth to lifting off, all of them reversals. Gear-5 at omega dt = 1
+// (its map grows by 1.3 a step there; integrator.cpp): about 44.
+// Below the limit the phase advances theta < pi a step (Verlet and leapfrog: cos theta =
+// 1 - (omega dt)^2 / 2; Gear-5, accurate there: theta = omega dt), and a run of m reversals needs
+// m theta >= (m - 1) pi: at most pi / (pi - theta) in a row. (Between its bound 0.31 and about
+// 0.8, Gear-5 grows too slowly to show, 1 + 2e-5 a step at 0.4, and not at the period of two
+// steps: the swing does not see that range, which the time step's bound excludes.)
+TEST(World, AContactAboveItsStabilityLimitSwingsWithAPeriodOfTwoSteps) {
+  struct Case {
+    Scheme scheme;
+    double omega_dt;
+    bool stable;
+  };
+  for (const Case c : {Case{Scheme::verlet, 1.8, true}, Case{Scheme::verlet, 2.02, false}, Case{Scheme::leapfrog, 1.8, true},
+                       Case{Scheme::leapfrog, 2.02, false}, Case{Scheme::gear5, 0.9 * stability_limit_omega_dt(Scheme::gear5), true},
+                       Case{Scheme::gear5, 1.0, false}}) {
+    const double s = 0.004, E = 1e7, g = 9.81;
+    WorldSettings settings;
+    settings.scheme = c.scheme;
+    settings.gravity = {0, -g};
+    settings.contact.youngs_modulus = E;
+    settings.contact.damping_gamma = 0.0;
+    settings.contact.friction_mu = 0.0;
+    World probe(settings);
+    const Shape square = make_polygon({{0, 0}, {s, 0}, {s, s}, {0, s}});
+    const double m = probe.mass(probe.add_grain(square, 5000.0));
+    double depth = 0.0, k = 2.0 * E;
+    for (int pass = 0; pass < 3; ++pass) {  // d_eq and k(d_eq), each from the other
+      depth = m * g / k;
+      k = 2.0 * E * s * s / ((s - depth) * (s - depth));
+    }
+    const double omega = std::sqrt(k / m);
+    settings.time_step = c.omega_dt / omega;
+    World w(settings);
+    w.add_wall(make_polygon({{-0.05, -0.01}, {0.05, -0.01}, {0.05, 0.0}, {-0.05, 0.0}}), {0, -0.005}, 0.0);  // top at y = 0
+    const int grain = w.add_grain(square, 5000.0);
+    w.activate(grain, {0.0, 0.5 * s - depth * (1.0 + 1e-5)}, 0.0, {0, 0}, 0.0);
+    w.motion().d[2][3 * grain + 1] = 0.0;  // at rest in balance, not in free fall (activate's start)
+    for (int step = 0; step < 400; ++step) w.step();
+    const SwingingContact& swing = w.longest_swing();
+    const std::string label = std::string(scheme_name(c.scheme)) + " at omega dt = " + std::to_string(c.omega_dt);
+    if (c.stable) {
+      const double theta = c.scheme == Scheme::gear5 ? c.omega_dt : std::acos(1.0 - 0.5 * c.omega_dt * c.omega_dt);
+      EXPECT_LE(swing.steps, static_cast<int>(M_PI / (M_PI - theta))) << label;
+      EXPECT_EQ(w.contact_count(), 1u) << label << ": a stable contact holds the square";
+    } else {
+      EXPECT_GE(swing.steps, 16) << label;  // PileProtocol::unstable_swing_steps
+      EXPECT_EQ(swing.a, 0) << label;       // the plate
+      EXPECT_EQ(swing.b, grain) << label;
+      EXPECT_NEAR(swing.point.x(), 0.0, 1e-9) << label;
+      EXPECT_GT(swing.time, 0.0) << label;
+    }
+  }
+}
+
 TEST(World, TangentialSpringTurnsWithTheContactAndStartsAfreshAfterAJump) {
   // A disc grain against a fixed disc wall: the normal is the line of centres, so carrying the
   // grain around the wall by phi turns the normal by exactly phi. At rest (no slip, so no

@@ -721,7 +721,6 @@ void World::collide_and_compute_forces() {
   double step_deepest = 0.0;
   std::size_t step_deepest_pair = n, candidates = 0, touching_pairs = 0, proven_apart = 0;
   int step_longest_swing = 0;
-  std::size_t step_longest_swing_pair = n;
 
   // The arrays the loop reads and writes, as plain pointers: the compiler cannot tell that the
   // stores into the pair arrays leave the vectors' own bookkeeping alone, and would reload it.
@@ -777,12 +776,11 @@ void World::collide_and_compute_forces() {
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step.
-#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs, proven_apart)
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs, proven_apart) \
+    reduction(max : step_longest_swing)
   {
     double deepest = 0.0;
     std::size_t deepest_pair = n;
-    int longest_swing = 0;
-    std::size_t longest_swing_pair = n;
     // The overlap of polygon pair q the scalar way (convex_overlap.h), false if it does not
     // touch; a pair found apart is proven so until its grains have moved as far as the gap.
     const auto polygon_overlap = [&](std::size_t q, Overlap& o) -> bool {
@@ -948,10 +946,7 @@ void World::collide_and_compute_forces() {
                                 std::abs(change) > SwingingContact::swing_floor * o.area;
           const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
           pair_swing[q] = static_cast<std::uint8_t>(grew | swings);
-          if (swings > longest_swing || (swings == longest_swing && swings > 0 && body_key(q) < body_key(longest_swing_pair))) {
-            longest_swing = swings;
-            longest_swing_pair = q;
-          }
+          step_longest_swing = std::max(step_longest_swing, swings);
           ct.point = o.point;
           ct.normal = o.normal;
           ct.normal_force = out.normal[lane];
@@ -1041,12 +1036,6 @@ void World::collide_and_compute_forces() {
       step_deepest = deepest;
       step_deepest_pair = deepest_pair;
     }
-#pragma omp critical
-    if (longest_swing > step_longest_swing ||
-        (longest_swing == step_longest_swing && longest_swing > 0 && body_key(longest_swing_pair) < body_key(step_longest_swing_pair))) {
-      step_longest_swing = longest_swing;
-      step_longest_swing_pair = longest_swing_pair;
-    }
   }
   candidate_count_ = candidates;
   proven_apart_count_ = proven_apart;
@@ -1056,8 +1045,14 @@ void World::collide_and_compute_forces() {
     const Contact& ct = pair_contact_[step_deepest_pair];
     deepest_overlap_ = {step_deepest, time_ + dt, ct.point, body_at_[ct.a], body_at_[ct.b]};
   }
+  // A longer swing than any before (rare: at most SwingingContact::longest_counted times a run):
+  // the touching pair of lowest body key with that count, whatever the threads.
   if (step_longest_swing > longest_swing_.steps) {
-    const Contact& ct = pair_contact_[step_longest_swing_pair];
+    std::size_t first = n;
+    for (std::size_t q = 0; q < n; ++q)
+      if (pair_touching_[q] && (pair_swing_[q] & 0x7f) == step_longest_swing && (first == n || body_key(q) < body_key(first)))
+        first = q;
+    const Contact& ct = pair_contact_[first];
     longest_swing_ = {step_longest_swing, time_ + dt, ct.point, body_at_[ct.a], body_at_[ct.b]};
   }
 }

@@ -18,10 +18,12 @@ namespace pilelab::dem {
 //   /world/active          per body 0/1
 //   /world attrs           time_s, steps, gravity_y, time_step_s, scheme, bodies_fingerprint
 //                          (what the run was built with: a restart by another build must match); deepest_overlap (fraction), deepest_overlap_time_s,
-//                          deepest_overlap_x_m, deepest_overlap_y_m, deepest_overlap_a, deepest_overlap_b
-//   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord
+//                          deepest_overlap_x_m, deepest_overlap_y_m, deepest_overlap_a, deepest_overlap_b;
+//                          longest_swing_steps, _time_s, _x_m, _y_m, _a, _b (optional)
+//   /contacts/...          a, b, spring, point, normal, normal_force, tangential_force, area, chord,
+//                          swing (optional: World::contact_swings)
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
-//                          pour_stalled; /protocol/rng (4 words)
+//                          pour_stalled, lost_energy_J (optional; 0 if absent); /protocol/rng (4 words)
 //   /counters attrs        particle_steps, wall_time, checkpoints, snapshots,
 //                          last_checkpoint_time, wall_time_settled, cpu_time; /counters/frame_times
 
@@ -86,6 +88,13 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/world", "deepest_overlap_y_m", deepest.point.y());
     f.set_attribute("/world", "deepest_overlap_a", static_cast<std::int64_t>(deepest.a));
     f.set_attribute("/world", "deepest_overlap_b", static_cast<std::int64_t>(deepest.b));
+    const SwingingContact& swing = world.longest_swing();
+    f.set_attribute("/world", "longest_swing_steps", static_cast<std::int64_t>(swing.steps));
+    f.set_attribute("/world", "longest_swing_time_s", swing.time);
+    f.set_attribute("/world", "longest_swing_x_m", swing.point.x());
+    f.set_attribute("/world", "longest_swing_y_m", swing.point.y());
+    f.set_attribute("/world", "longest_swing_a", static_cast<std::int64_t>(swing.a));
+    f.set_attribute("/world", "longest_swing_b", static_cast<std::int64_t>(swing.b));
 
     const auto& cs = world.contacts();
     std::vector<std::int64_t> a, b;
@@ -110,6 +119,8 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.write("/contacts/tangential_force", ft);
     f.write("/contacts/area", area);
     f.write("/contacts/chord", chord);
+    const std::vector<std::uint8_t> swings = world.contact_swings();
+    f.write("/contacts/swing", std::vector<std::int64_t>(swings.begin(), swings.end()));
 
     const ProtocolState& s = protocol.state();
     f.set_attribute("/protocol", "phase", static_cast<std::int64_t>(s.phase));
@@ -119,6 +130,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/protocol", "next_insert_time", s.next_insert_time);
     f.set_attribute("/protocol", "last_insert_time", s.last_insert_time);
     f.set_attribute("/protocol", "pour_stalled", static_cast<std::int64_t>(s.pour_stalled));
+    f.set_attribute("/protocol", "lost_energy_J", s.lost_energy);
     f.write("/protocol/rng", std::vector<std::uint64_t>(s.rng.begin(), s.rng.end()));
 
     f.set_attribute("/counters", "particle_steps", counters.particle_steps);
@@ -186,6 +198,20 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   deepest.a = static_cast<std::int32_t>(f.attribute_int("/world", "deepest_overlap_a"));
   deepest.b = static_cast<std::int32_t>(f.attribute_int("/world", "deepest_overlap_b"));
   world.restore_deepest_overlap(deepest);
+  // The swing record and each contact's swing (checkpoints before 2026-12-06 have none: the
+  // counts then start afresh).
+  if (f.has_attribute("/world", "longest_swing_steps")) {
+    SwingingContact swing;
+    swing.steps = static_cast<int>(f.attribute_int("/world", "longest_swing_steps"));
+    swing.time = f.attribute_double("/world", "longest_swing_time_s");
+    swing.point = {f.attribute_double("/world", "longest_swing_x_m"), f.attribute_double("/world", "longest_swing_y_m")};
+    swing.a = static_cast<std::int32_t>(f.attribute_int("/world", "longest_swing_a"));
+    swing.b = static_cast<std::int32_t>(f.attribute_int("/world", "longest_swing_b"));
+    if (swing.steps < 0 || swing.steps > SwingingContact::longest_counted)
+      throw InputError(path + ": /world: longest_swing_steps = " + std::to_string(swing.steps) + ", expected 0 to " +
+                       std::to_string(SwingingContact::longest_counted));
+    world.restore_longest_swing(swing);
+  }
 
   const auto a = f.read_ints("/contacts/a"), b = f.read_ints("/contacts/b");
   const auto spring = f.read_finite_doubles("/contacts/spring"), point = f.read_finite_doubles("/contacts/point"),
@@ -213,7 +239,16 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
     c.area = area[i];
     c.chord = chord[i];
   }
-  world.restore_contacts(std::move(contacts));
+  std::vector<std::uint8_t> swings;
+  if (f.exists("/contacts/swing")) {
+    const auto stored = f.read_ints("/contacts/swing");
+    if (stored.size() != n) throw InputError(path + ": /contacts/swing: expected one value a contact");
+    for (std::int64_t s : stored) {
+      if (s < 0 || s > 255) throw InputError(path + ": /contacts/swing: a value outside 0-255");
+      swings.push_back(static_cast<std::uint8_t>(s));
+    }
+  }
+  world.restore_contacts(std::move(contacts), swings);
 
   ProtocolState s;
   const std::int64_t phase = f.attribute_int("/protocol", "phase");
@@ -228,6 +263,10 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   s.next_insert_time = f.attribute_double("/protocol", "next_insert_time");
   s.last_insert_time = f.attribute_double("/protocol", "last_insert_time");
   s.pour_stalled = f.attribute_int("/protocol", "pour_stalled") != 0;
+  // Older checkpoints have none: their energy bound keeps the lost grains' share, as it did.
+  s.lost_energy = f.has_attribute("/protocol", "lost_energy_J") ? f.attribute_double("/protocol", "lost_energy_J") : 0.0;
+  if (!std::isfinite(s.lost_energy))
+    throw InputError(path + ": /protocol: lost_energy_J is not a finite number");
   const auto rng = f.read_uints("/protocol/rng");
   if (rng.size() != 4) throw InputError(path + ": /protocol/rng: expected 4 words");
   for (int k = 0; k < 4; ++k) s.rng[k] = rng[k];

@@ -282,8 +282,8 @@ double PileProtocol::mechanical_energy() const {
 }
 
 void PileProtocol::check_energy_is_bounded() const {
-  const double energy = mechanical_energy(), fed_in = energy_fed_in();
-  if (!(energy > energy_growth_limit * fed_in)) return;
+  const double energy = mechanical_energy(), bound = energy_bound();
+  if (!(energy > energy_growth_limit * bound)) return;
   int fastest = -1;
   double fastest_speed = -1.0;
   for (int i : world_.active_grains()) {
@@ -293,10 +293,11 @@ void PileProtocol::check_energy_is_bounded() const {
   char text[640];
   std::snprintf(text, sizeof text,
                 "the DEM run creates energy at t = %.9g s (step %lld): the grains' kinetic and potential energy, "
-                "%.4g J, exceeds %g times the most the pour can have put in, %.4g J; the fastest is %s at "
+                "%.4g J, exceeds %g times the most the pour can have put in (less what lost grains carried off), "
+                "%.4g J; the fastest is %s at "
                 "%.4g m/s. The explicit integration is unstable: the time step is above the stability limit "
                 "(dem.integrator), or the contacts are stiffer than the step allows",
-                world_.time(), static_cast<long long>(world_.steps()), energy, energy_growth_limit, fed_in,
+                world_.time(), static_cast<long long>(world_.steps()), energy, energy_growth_limit, bound,
                 body_name(fastest).c_str(), fastest_speed);
   throw std::runtime_error(text);
 }
@@ -307,14 +308,15 @@ void PileProtocol::check_contacts_are_stable() const {
   const double dt = world_.settings().time_step, limit = time_step_bound().stable_limit;
   char text[768];
   std::snprintf(text, sizeof text,
-                "a contact oscillates with a period of two time steps at t = %.9g s (step %lld): by t = %.9g s "
-                "the overlap of %s and %s at x = %.4g m, y = %.4g m had grown and shrunk in turn %d steps in a row "
-                "(a stable contact's "
+                "a contact oscillated with a period of two time steps, found at t = %.9g s (step %lld): up to "
+                "t = %.9g s the overlap of %s and %s at x = %.4g m, y = %.4g m grew and shrank in turn %d%s steps in "
+                "a row (a stable contact's "
                 "oscillation spans more than two steps). The explicit integration is unstable for this contact: "
                 "the time step, %.4g s, is %.3g times the stability limit %.4g s (dem.integrator), or the "
                 "contacts are stiffer than the step allows",
-                world_.time(), static_cast<long long>(world_.steps()), swing.time, body_name(swing.a).c_str(), body_name(swing.b).c_str(), swing.point.x(), swing.point.y(),
-                swing.steps, dt, dt / limit, limit);
+                world_.time(), static_cast<long long>(world_.steps()), swing.time, body_name(swing.a).c_str(),
+                body_name(swing.b).c_str(), swing.point.x(), swing.point.y(), swing.steps,
+                swing.steps == SwingingContact::longest_counted ? " or more" : "", dt, dt / limit, limit);
   throw std::runtime_error(text);
 }
 
@@ -322,7 +324,16 @@ void PileProtocol::remove_lost_grains() {
   std::vector<int> lost;
   for (int i : world_.active_grains())
     if (world_.position(i).y() < scene_.container.lost_below) lost.push_back(i);
-  for (int i : lost) world_.deactivate(i);
+  const Vec2 g = world_.settings().gravity;
+  for (int i : lost) {
+    // What it takes away, counted as mechanical_energy counts it (a little below the loss
+    // height, its potential energy is slightly negative).
+    const Vec2 v = world_.velocity(i);
+    const double spin = world_.angular_velocity(i);
+    state_.lost_energy += 0.5 * world_.mass(i) * v.squaredNorm() + 0.5 * world_.inertia(i) * spin * spin -
+                          world_.mass(i) * g.dot(world_.position(i) - Vec2(0.0, scene_.container.lost_below));
+    world_.deactivate(i);
+  }
   state_.lost += static_cast<int>(lost.size());
 }
 

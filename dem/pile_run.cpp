@@ -129,16 +129,16 @@ std::vector<std::string> run_warnings(const PileProtocol& p, const nlohmann::jso
   std::vector<std::string> warnings;
   char text[512];
   // First, because it qualifies the warnings after it. A run above the limit that completed
-  // made no contact that swung at the period of two steps for long (PileProtocol stops those),
-  // but the bound is for the stiffest contact a grain can make: a contact stiffer than this
-  // run's may be unstable at this step in another pour.
+  // had no contact that swung 16 steps in a row (PileProtocol stops those); shorter swings may
+  // still be unstable contacts that opened first, and the bound is for the stiffest contact a
+  // grain can make, which another pour may make.
   const double limit = p.time_step_bound().stable_limit, step = p.world().settings().time_step;
   if (step > limit) {
     std::snprintf(text, sizeof text,
                   "the time step %.4g s is %.4g times the stability limit %.3g s (dem.integrator."
-                  "allow_unstable_time_step): no contact of this run swung as an unstable one does, but the "
+                  "allow_unstable_time_step): no contact swung %d steps in a row (the longest: %d), but the "
                   "stiffest contacts a grain can make are unstable at this step, and another pour may make them",
-                  step, step / limit, limit);
+                  step, step / limit, limit, PileProtocol::unstable_swing_steps, p.world().longest_swing().steps);
     warnings.emplace_back(text);
   }
   if (p.state().lost > 0) {

@@ -167,7 +167,13 @@ void World::deactivate(int body) {
   contacts_current_ = false;
 }
 
-void World::restore_contacts(std::vector<Contact> contacts) {
+void World::restore_contacts(std::vector<Contact> contacts, const std::vector<std::uint8_t>& swings) {
+  restored_swings_.clear();
+  if (!swings.empty()) {
+    if (swings.size() != contacts.size()) throw std::logic_error("World::restore_contacts: one swing a contact");
+    for (std::size_t i = 0; i < contacts.size(); ++i) restored_swings_.emplace_back(contacts[i].key(), swings[i]);
+    std::sort(restored_swings_.begin(), restored_swings_.end());
+  }
   neighbours_.clear();
   pair_contact_.clear();
   pair_touching_.clear();
@@ -201,6 +207,27 @@ const std::vector<Contact>& World::contacts() const {
   }
   contacts_current_ = true;
   return contacts_;
+}
+
+std::vector<std::uint8_t> World::contact_swings() const {
+  const std::vector<Contact>& listed = contacts();
+  std::vector<std::uint8_t> swings(listed.size(), 0x80);
+  if (!restored_contacts_.empty()) {  // not yet taken into the list
+    for (std::size_t i = 0; i < listed.size(); ++i) {
+      const auto swing = std::lower_bound(restored_swings_.begin(), restored_swings_.end(),
+                                          std::make_pair(listed[i].key(), std::uint8_t{0}));
+      if (swing != restored_swings_.end() && swing->first == listed[i].key()) swings[i] = swing->second;
+    }
+    return swings;
+  }
+  // The touching pairs by their bodies' key: the order of contacts().
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> by_key;
+  by_key.reserve(listed.size());
+  for (std::size_t q = 0; q < neighbours_.size(); ++q)
+    if (pair_touching_[q]) by_key.emplace_back(body_key(q), pair_swing_[q]);
+  std::sort(by_key.begin(), by_key.end());
+  for (std::size_t i = 0; i < by_key.size(); ++i) swings[i] = by_key[i].second;
+  return swings;
 }
 
 void World::restore_activity(const std::vector<std::uint8_t>& active) {
@@ -646,8 +673,14 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
       if (r < restored.size() && restored[r].key() == neighbours_[q]) {
         pair_contact_[q] = restored[r];
         pair_touching_[q] = 1;
+        // Its swing, where the checkpoint kept one; else a fresh start (it grew, none reversed).
+        const std::uint64_t body_key = pair_key(body_at_[restored[r].a], body_at_[restored[r].b]);
+        const auto swing = std::lower_bound(restored_swings_.begin(), restored_swings_.end(),
+                                            std::make_pair(body_key, std::uint8_t{0}));
+        pair_swing_[q] = swing != restored_swings_.end() && swing->first == body_key ? swing->second : 0x80;
       }
     }
+    restored_swings_.clear();
   }
   contact_count_ = static_cast<std::size_t>(std::count(pair_touching_.begin(), pair_touching_.end(), 1));
 }
@@ -941,8 +974,10 @@ void World::collide_and_compute_forces() {
           // The swing (SwingingContact): does the area's change reverse that of the last step?
           // ct.area is still the last step's where the contact continues.
           const double change = o.area - ct.area;
-          const std::uint8_t grew = change > 0.0 ? 0x80 : 0, swing = pair_swing[q];
-          const bool reverses = touched[q - first_pair] != 0 && grew != (swing & 0x80) &&
+          // A new contact's area grew from nothing (ct.area is stale, no reversal yet).
+          const bool continues = touched[q - first_pair] != 0;
+          const std::uint8_t grew = !continues || change > 0.0 ? 0x80 : 0, swing = pair_swing[q];
+          const bool reverses = continues && grew != (swing & 0x80) &&
                                 std::abs(change) > SwingingContact::swing_floor * o.area;
           const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
           pair_swing[q] = static_cast<std::uint8_t>(grew | swings);

@@ -62,7 +62,7 @@ struct DeepestOverlap {
 /// amplifies a contact's oscillation through a mode of eigenvalue below -1, whose period is two
 /// steps; a stable mode's period is longer (Verlet at 0.8 of the limit: 3.4 steps), so its swings
 /// fall out of step within a few steps (within 11 at 0.99 of the limit). A contact that swings
-/// for dozens of steps in a row is unstable (time_step.h).
+/// for 16 steps in a row or more is unstable (time_step.h).
 struct SwingingContact {
   int steps = 0;          ///< consecutive reversals of the area's change; 0 before any
   double time = 0.0;      ///< end of the step in which it first reached them [s]
@@ -181,8 +181,7 @@ class World {
   void require_finite_state() const;
   /// The deepest overlap met so far (the first, if two steps reach the same depth).
   const DeepestOverlap& deepest_overlap() const { return deepest_overlap_; }
-  /// The contact that has swung longest so far (the first to reach that count). Counted from
-  /// the last restart: a checkpoint does not keep the counts.
+  /// The contact that has swung longest so far (the first to reach that count).
   const SwingingContact& longest_swing() const { return longest_swing_; }
 
   // --- checkpointing: the complete dynamic state ---------------------------------------
@@ -192,8 +191,13 @@ class World {
   /// A copy of the state of every body, in body order.
   MotionState motion_state() const;
   /// Replaces the contacts (sorted by key, bodies a < b) and their spring history, e.g. from a
-  /// checkpoint; the next step continues them.
-  void restore_contacts(std::vector<Contact> contacts);
+  /// checkpoint; the next step continues them. swings, if given, holds each contact's swing
+  /// (contact_swings()) in the same order; without it the swings start afresh.
+  void restore_contacts(std::vector<Contact> contacts, const std::vector<std::uint8_t>& swings = {});
+  /// Each contact's swing, in the order of contacts(): bit 7 set if its area grew in the last
+  /// step, bits 0-6 the steps in a row its change reversed (SwingingContact). For checkpoints.
+  std::vector<std::uint8_t> contact_swings() const;
+  void restore_longest_swing(const SwingingContact& swing) { longest_swing_ = swing; }
   void restore_clock(double time, std::int64_t steps) { time_ = time; steps_ = steps; }
   void restore_deepest_overlap(const DeepestOverlap& deepest) { deepest_overlap_ = deepest; }
   /// Marks bodies active/inactive from a checkpoint and rebuilds derived lists and geometry.
@@ -288,8 +292,10 @@ class World {
     double fx, fy, torque;
   };
   std::vector<EndLoad> end_load_;
-  // Contacts restored from a checkpoint, taken into the list at its next build.
+  // Contacts restored from a checkpoint, taken into the list at its next build, and their swings
+  // by the key of their bodies' indices (sorted).
   std::vector<Contact> restored_contacts_;
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> restored_swings_;
   std::size_t contact_count_ = 0, candidate_count_ = 0, proven_apart_count_ = 0;
   mutable std::vector<Contact> contacts_;  // assembled by contacts()
   mutable bool contacts_current_ = true;

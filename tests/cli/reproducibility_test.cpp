@@ -146,11 +146,12 @@ TEST_P(Restart, EqualsAnUnbrokenRun) {
     const auto r = run("dem " + scene + " -o " + out + " -q --restart");
     ASSERT_EQ(r.exit_code, 0) << r.output;
     expect_identical_outputs(path("unbroken"), out);
-    // The deepest-overlap record travels through the checkpoint too.
+    // The deepest-overlap and swing records travel through the checkpoint too.
     const auto restarted = report(out);
     EXPECT_EQ(unbroken["steps"], restarted["steps"]);
     for (const char* key : {"deepest_overlap_fraction", "deepest_overlap_time_s", "deepest_overlap_point_m",
-                            "deepest_overlap_bodies"})
+                            "deepest_overlap_bodies", "longest_swing_steps", "longest_swing_time_s",
+                            "longest_swing_bodies"})
       EXPECT_EQ(unbroken[key], restarted[key]) << key;
   }
 }

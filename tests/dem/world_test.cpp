@@ -334,8 +334,9 @@ TEST(World, RecordsTheDeepestOverlap) {
 // Started 1e-5 of d_eq below that depth it oscillates at omega = sqrt(k / m).
 // Above the limit the explicit step amplifies the oscillation through an eigenvalue below -1:
 // the depth swings deeper and shallower in turn, step after step, until the square hops off.
-// Verlet and leapfrog at omega dt = 2.02 (just above their limit 2): |lambda| = 1.22 a step, about
-// 58 steps from 1e-5 of the depth to lifting off, all of them reversals. Gear-5 at omega dt = 1
+// Verlet and leapfrog at omega dt = 2.02 (just above their limit 2): lambda^2 + 2.0804 lambda + 1
+// = 0, |lambda| = 1.33 a step, about 40 steps from 1e-5 of the depth to lifting off, all of them
+// reversals. Gear-5 at omega dt = 1
 // (its map grows by 1.3 a step there; integrator.cpp): about 44.
 // Below the limit the phase advances theta < pi a step (Verlet and leapfrog: cos theta =
 // 1 - (omega dt)^2 / 2; Gear-5, accurate there: theta = omega dt), and a run of m reversals needs

@@ -273,12 +273,17 @@ double PileProtocol::energy_fed_in() const {
   return per_kg * poured_mass;
 }
 
+double PileProtocol::mechanical_energy(int grain) const {
+  const Vec2 v = world_.velocity(grain);
+  const double spin = world_.angular_velocity(grain), m = world_.mass(grain);
+  return 0.5 * m * v.squaredNorm() + 0.5 * world_.inertia(grain) * spin * spin -
+         m * world_.settings().gravity.dot(world_.position(grain) - Vec2(0.0, scene_.container.lost_below));
+}
+
 double PileProtocol::mechanical_energy() const {
-  const Vec2 g = world_.settings().gravity;
-  double potential = 0.0;
-  for (int i : world_.active_grains())
-    potential -= world_.mass(i) * g.dot(world_.position(i) - Vec2(0.0, scene_.container.lost_below));
-  return world_.kinetic_energy() + potential;
+  double energy = 0.0;
+  for (int i : world_.active_grains()) energy += mechanical_energy(i);
+  return energy;
 }
 
 void PileProtocol::check_energy_is_bounded() const {
@@ -310,8 +315,7 @@ void PileProtocol::check_contacts_are_stable() const {
   std::snprintf(text, sizeof text,
                 "a contact oscillated with a period of two time steps, found at t = %.9g s (step %lld): up to "
                 "t = %.9g s the overlap of %s and %s at x = %.4g m, y = %.4g m grew and shrank in turn %d%s steps in "
-                "a row (a stable contact's "
-                "oscillation spans more than two steps). The explicit integration is unstable for this contact: "
+                "a row (a stable contact's oscillation spans more than two steps). The explicit integration is unstable for this contact: "
                 "the time step, %.4g s, is %.3g times the stability limit %.4g s (dem.integrator), or the "
                 "contacts are stiffer than the step allows",
                 world_.time(), static_cast<long long>(world_.steps()), swing.time, body_name(swing.a).c_str(),
@@ -324,14 +328,10 @@ void PileProtocol::remove_lost_grains() {
   std::vector<int> lost;
   for (int i : world_.active_grains())
     if (world_.position(i).y() < scene_.container.lost_below) lost.push_back(i);
-  const Vec2 g = world_.settings().gravity;
   for (int i : lost) {
-    // What it takes away, counted as mechanical_energy counts it (a little below the loss
-    // height, its potential energy is slightly negative).
-    const Vec2 v = world_.velocity(i);
-    const double spin = world_.angular_velocity(i);
-    state_.lost_energy += 0.5 * world_.mass(i) * v.squaredNorm() + 0.5 * world_.inertia(i) * spin * spin -
-                          world_.mass(i) * g.dot(world_.position(i) - Vec2(0.0, scene_.container.lost_below));
+    // What it takes away (a little below the loss height, its potential energy is slightly
+    // negative).
+    state_.lost_energy += mechanical_energy(i);
     world_.deactivate(i);
   }
   state_.lost += static_cast<int>(lost.size());

@@ -93,6 +93,8 @@ class PileProtocol {
   double energy_bound() const { return energy_fed_in() - state_.lost_energy; }
   /// The active grains' kinetic energy plus their potential energy above the loss height [J].
   double mechanical_energy() const;
+  /// The same for one grain [J].
+  double mechanical_energy(int grain) const;
   /// A run whose mechanical energy exceeds this multiple of energy_bound() creates energy: the
   /// explicit scheme is unstable (a step above the limit), and the pile protocol stops it.
   static constexpr double energy_growth_limit = 2.0;

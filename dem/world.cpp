@@ -209,15 +209,18 @@ const std::vector<Contact>& World::contacts() const {
   return contacts_;
 }
 
+// A restored contact's swing, where the checkpoint kept one; else a fresh start (it grew, none
+// reversed).
+std::uint8_t World::restored_swing(std::uint64_t body_key) const {
+  const auto swing = std::lower_bound(restored_swings_.begin(), restored_swings_.end(), std::make_pair(body_key, std::uint8_t{0}));
+  return swing != restored_swings_.end() && swing->first == body_key ? swing->second : 0x80;
+}
+
 std::vector<std::uint8_t> World::contact_swings() const {
   const std::vector<Contact>& listed = contacts();
   std::vector<std::uint8_t> swings(listed.size(), 0x80);
   if (!restored_contacts_.empty()) {  // not yet taken into the list
-    for (std::size_t i = 0; i < listed.size(); ++i) {
-      const auto swing = std::lower_bound(restored_swings_.begin(), restored_swings_.end(),
-                                          std::make_pair(listed[i].key(), std::uint8_t{0}));
-      if (swing != restored_swings_.end() && swing->first == listed[i].key()) swings[i] = swing->second;
-    }
+    for (std::size_t i = 0; i < listed.size(); ++i) swings[i] = restored_swing(listed[i].key());
     return swings;
   }
   // The touching pairs by their bodies' key: the order of contacts().
@@ -673,11 +676,7 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
       if (r < restored.size() && restored[r].key() == neighbours_[q]) {
         pair_contact_[q] = restored[r];
         pair_touching_[q] = 1;
-        // Its swing, where the checkpoint kept one; else a fresh start (it grew, none reversed).
-        const std::uint64_t body_key = pair_key(body_at_[restored[r].a], body_at_[restored[r].b]);
-        const auto swing = std::lower_bound(restored_swings_.begin(), restored_swings_.end(),
-                                            std::make_pair(body_key, std::uint8_t{0}));
-        pair_swing_[q] = swing != restored_swings_.end() && swing->first == body_key ? swing->second : 0x80;
+        pair_swing_[q] = restored_swing(pair_key(body_at_[restored[r].a], body_at_[restored[r].b]));
       }
     }
     restored_swings_.clear();

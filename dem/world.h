@@ -223,6 +223,7 @@ class World {
   Vec2 slot_position(int slot) const { return {motion_.d[0][3 * slot], motion_.d[0][3 * slot + 1]}; }
   Vec2 slot_velocity(int slot) const { return {motion_.d[1][3 * slot], motion_.d[1][3 * slot + 1]}; }
   std::uint64_t body_key(std::size_t pair) const;
+  std::uint8_t restored_swing(std::uint64_t body_key) const;  // from restored_swings_, else a fresh start
 
   WorldSettings settings_;
   int wall_count_ = 0;

@@ -481,59 +481,7 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
 
 namespace pilelab::dem::two_crossing {
 
-namespace {
-inline Double4 side_of(Double4 dx, Double4 dy, Double4 e0x, Double4 e0y, Double4 px, Double4 py) {
-  return dx * (py - e0y) - dy * (px - e0x);
-}
-inline Mask4 clearly_left_of_edge(Double4 e0x, Double4 e0y, Double4 e1x, Double4 e1y, Double4 px, Double4 py,
-                                  Double4 margin2) {
-  const Double4 dx = e1x - e0x, dy = e1y - e0y;
-  const Double4 side = side_of(dx, dy, e0x, e0y, px, py);
-  return (side > 0.0) & (side * side > margin2 * (dx * dx + dy * dy));
-}
-}  // namespace
-
-// AVX2 where the processor has it, SSE2 otherwise: the same operations, the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void corner_in_edge_x4(const CornerInEdgeBatch& in, CornerInEdgeOverlaps& out) {
-  const Double4 margin2 = in.margin * in.margin;
-  const Double4 d0x = in.cx - in.p0x, d0y = in.cy - in.p0y, d2x = in.p2x - in.cx, d2y = in.p2y - in.cy;
-  const Double4 dex = in.e1x - in.e0x, dey = in.e1y - in.e0y;
-  const Double4 s0 = side_of(dex, dey, in.e0x, in.e0y, in.p0x, in.p0y);
-  const Double4 s1 = side_of(dex, dey, in.e0x, in.e0y, in.cx, in.cy);
-  const Double4 s2 = side_of(dex, dey, in.e0x, in.e0y, in.p2x, in.p2y);
-  const Double4 t0 = side_of(d0x, d0y, in.p0x, in.p0y, in.e0x, in.e0y), t1 = side_of(d0x, d0y, in.p0x, in.p0y, in.e1x, in.e1y);
-  const Double4 u0 = side_of(d2x, d2y, in.cx, in.cy, in.e0x, in.e0y), u1 = side_of(d2x, d2y, in.cx, in.cy, in.e1x, in.e1y);
-  const Double4 me = margin2 * (dex * dex + dey * dey), m0 = margin2 * (d0x * d0x + d0y * d0y),
-                m2 = margin2 * (d2x * d2x + d2y * d2y);
-  Mask4 ok = (s0 < 0.0) & (s1 > 0.0) & (s2 < 0.0) & (t0 > 0.0) & (t1 < 0.0) & (u0 < 0.0) & (u1 > 0.0);
-  ok &= (s0 * s0 > me) & (s1 * s1 > me) & (t0 * t0 > m0) & (t1 * t1 > m0);
-  ok &= (s2 * s2 > me) & (u0 * u0 > m2) & (u1 * u1 > m2);
-  const Double4 r_in = s0 / (s0 - s1), r_out = s1 / (s1 - s2);
-  const Double4 inx = in.p0x + r_in * d0x, iny = in.p0y + r_in * d0y;
-  const Double4 outx = in.cx + r_out * d2x, outy = in.cy + r_out * d2y;
-  ok &= clearly_left_of_edge(outx, outy, inx, iny, in.cx, in.cy, margin2) &
-        clearly_left_of_edge(inx, iny, in.qx, in.qy, in.cx, in.cy, margin2) &
-        clearly_left_of_edge(in.qx, in.qy, outx, outy, in.cx, in.cy, margin2);
-  const Double4 qx = in.cx - inx, qy = in.cy - iny, rx = outx - inx, ry = outy - iny;
-  const Double4 a2 = (0.0 * qy - 0.0 * qx) + (qx * ry - qy * rx);
-  const Double4 area = 0.5 * a2;
-  ok &= area > 0.0;
-  // The chord, formed as two_crossing_result forms it: reversed, it is in - out itself, not
-  // -(out - in), which differs where the two are equal (+0 against -0).
-  const Double4 lx = in.chord_reversed ? inx - outx : outx - inx, ly = in.chord_reversed ? iny - outy : outy - iny;
-  const Double4 chord2 = lx * lx + ly * ly;
-  const Double4 chord = lane_sqrt(chord2);
-  ok &= chord > in.margin;
-  out.ok = ok;
-  out.area = area;
-  out.chord = chord;
-  out.normal_x = ly / chord;
-  out.normal_y = -lx / chord;
-  out.point_x = 0.5 * (inx + outx);
-  out.point_y = 0.5 * (iny + outy);
-}
+PILELAB_AVX2_AND_SSE2
+void corner_in_edge_x4(const CornerInEdgeBatch& in, CornerInEdgeOverlaps& out) { corner_in_edge_lanes(in, out); }
 
 }  // namespace pilelab::dem::two_crossing

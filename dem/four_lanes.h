@@ -7,6 +7,16 @@
 #include <cmath>
 #include <cstdint>
 
+// A function compiled twice, for AVX2 and for plain SSE2, the processor choosing one when the
+// program starts (GCC's function multi-versioning). Both perform the same IEEE operations in
+// the same order, so they give the same bits. PILELAB_SSE2_ONLY builds the SSE2 code alone: the
+// test that both give the same files runs such a build beside the usual one.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(PILELAB_SSE2_ONLY)
+#define PILELAB_AVX2_AND_SSE2 __attribute__((target_clones("avx2", "default")))
+#else
+#define PILELAB_AVX2_AND_SSE2
+#endif
+
 namespace pilelab::dem {
 
 // The helpers below take and return vectors by value. They are inlined by force into each clone
@@ -34,6 +44,12 @@ using Mask4 = std::int64_t __attribute__((vector_size(32)));  ///< a comparison'
 [[gnu::always_inline]] inline Double4 lane_min(Double4 a, Double4 b) { return b < a ? b : a; }
 /// std::isinf.
 [[gnu::always_inline]] inline Mask4 lane_isinf(Double4 x) { return lane_abs(x) == INFINITY; }
+/// The vector of value(0), value(1), value(2), value(3): four lanes gathered from wherever
+/// they lie.
+template <class Value>
+[[gnu::always_inline]] inline Double4 lanes_of(Value&& value) {
+  return Double4{value(0), value(1), value(2), value(3)};
+}
 
 #pragma GCC diagnostic pop
 

@@ -9,10 +9,7 @@
 
 namespace pilelab::dem {
 
-// AVX2 where the processor has it, SSE2 otherwise: the same operations, the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+PILELAB_AVX2_AND_SSE2
 void rotation_sincos_x4(const double* x_in, double* s, double* c, int count) {
   namespace d = portable_math_detail;
   for (int first = 0; first < count; first += 4) {

@@ -13,6 +13,7 @@
 #include "common/portable_math.h"
 #include "dem/contact_law_x4.h"
 #include "dem/convex_overlap.h"
+#include "dem/four_lanes.h"
 #include "dem/rotation_x4.h"
 
 #ifdef _OPENMP
@@ -432,6 +433,7 @@ void World::step() {
 
 // The predictor and the grains' new corners; true if some body has gone farther than its
 // margin since the pair list was built.
+PILELAB_AVX2_AND_SSE2
 bool World::move_grains() {
   const double dt = settings_.time_step;
   const Stepper stepper(settings_.scheme, dt);
@@ -742,6 +744,10 @@ void World::index_pairs_by_body() {
   end_load_.assign(body_pairs_.size(), EndLoad{0.0, 0.0, 0.0});
 }
 
+// The pair loop. Like the step's other passes over the grains, it is compiled for AVX2 and for
+// SSE2 (four_lanes.h), and the four-lane kernels (corner in edge, contact law) are inlined into
+// it, so that their lanes go from the world's arrays straight into vector registers.
+PILELAB_AVX2_AND_SSE2
 void World::collide_and_compute_forces() {
   const std::size_t n = neighbours_.size();
   const ContactParameters& law = settings_.contact;
@@ -815,7 +821,7 @@ void World::collide_and_compute_forces() {
     std::size_t deepest_pair = n;
     // The overlap of polygon pair q the scalar way (convex_overlap.h), false if it does not
     // touch; a pair found apart is proven so until its grains have moved as far as the gap.
-    const auto polygon_overlap = [&](std::size_t q, Overlap& o) -> bool {
+    const auto polygon_overlap = [&](std::size_t q, Overlap& o) __attribute__((always_inline)) -> bool {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const BodyGeometry& sa = geometry[a];
       const BodyGeometry& sb = geometry[b];
@@ -838,38 +844,47 @@ void World::collide_and_compute_forces() {
     // The pairs whose hint is a corner of one polygon in an edge of the other, four at a time
     // (two_crossing::corner_in_edge_x4); each pair's overlap to done(q, overlap), or a null
     // overlap where the batch could not prove it.
-    const auto batched_corner_in_edge = [&](const std::size_t* pairs, std::size_t count, auto&& done) {
-      two_crossing::CornerInEdgeBatch in;
+    const auto batched_corner_in_edge = [&](const std::size_t* pairs, std::size_t count, auto&& done) __attribute__((always_inline)) {
       two_crossing::CornerInEdgeOverlaps out;
-      bool corner_of_b[4];
       for (std::size_t first = 0; first < count; first += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, count - first);
+        // Each lane's corner c with its neighbours p0 and p2, the edge e0 -> e1 and the centre of
+        // the edge's polygon; then each coordinate as one vector of the four lanes' values.
+        const Vec2 *p0[4], *c[4], *p2[4], *e0[4], *e1[4];
+        int centre[4];
+        double margin[4];
+        std::int64_t corner_of_b[4];
         for (std::size_t lane = 0; lane < 4; ++lane) {
           const std::size_t q = pairs[first + std::min(lane, lanes - 1)];  // spare lanes repeat the last
           const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
           const BodyGeometry& sa = geometry[a];
           const BodyGeometry& sb = geometry[b];
-          const Vec2* const ca = world_vertices + sa.first_corner;
-          const Vec2* const cb = world_vertices + sb.first_corner;
           const int i = hints[q].edge[0], k = hints[q].edge[1], j = hints[q].edge[2], l = hints[q].edge[3];
-          // a's corner j in b's edge k, or b's corner k in a's edge i (two_crossing_overlap).
-          corner_of_b[lane] = k != l;
-          const Vec2 *p0, *c, *p2, *e0, *e1;
-          int centre;
-          if (!corner_of_b[lane]) {
-            p0 = &ca[i], c = &ca[j], p2 = &ca[two_crossing::next_index(j, sa.corner_count)];
-            e0 = &cb[k], e1 = &cb[two_crossing::next_index(k, sb.corner_count)], centre = b;
-          } else {
-            p0 = &cb[l], c = &cb[k], p2 = &cb[two_crossing::next_index(k, sb.corner_count)];
-            e0 = &ca[i], e1 = &ca[two_crossing::next_index(i, sa.corner_count)], centre = a;
-          }
-          in.p0x[lane] = p0->x(), in.p0y[lane] = p0->y(), in.cx[lane] = c->x(), in.cy[lane] = c->y();
-          in.p2x[lane] = p2->x(), in.p2y[lane] = p2->y(), in.e0x[lane] = e0->x(), in.e0y[lane] = e0->y();
-          in.e1x[lane] = e1->x(), in.e1y[lane] = e1->y(), in.qx[lane] = x[3 * centre], in.qy[lane] = x[3 * centre + 1];
-          in.margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
-          in.chord_reversed[lane] = corner_of_b[lane] ? -1 : 0;
+          // a's corner j after a's corner i, in b's edge k; or b's corner k after b's corner l, in
+          // a's edge i (two_crossing_overlap). Chosen without a branch: either is as likely.
+          const bool of_b = k != l;
+          corner_of_b[lane] = of_b ? -1 : 0;
+          const BodyGeometry& corner_body = of_b ? sb : sa;
+          const BodyGeometry& edge_body = of_b ? sa : sb;
+          const Vec2* const corners = world_vertices + corner_body.first_corner;
+          const Vec2* const edges = world_vertices + edge_body.first_corner;
+          const int before = of_b ? l : i, corner = of_b ? k : j, edge = of_b ? i : k;
+          p0[lane] = &corners[before], c[lane] = &corners[corner];
+          p2[lane] = &corners[two_crossing::next_index(corner, corner_body.corner_count)];
+          e0[lane] = &edges[edge], e1[lane] = &edges[two_crossing::next_index(edge, edge_body.corner_count)];
+          centre[lane] = of_b ? a : b;
+          margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
         }
-        two_crossing::corner_in_edge_x4(in, out);
+        two_crossing::CornerInEdgeBatch in;
+        in.p0x = lanes_of([&](int k) { return p0[k]->x(); }), in.p0y = lanes_of([&](int k) { return p0[k]->y(); });
+        in.cx = lanes_of([&](int k) { return c[k]->x(); }), in.cy = lanes_of([&](int k) { return c[k]->y(); });
+        in.p2x = lanes_of([&](int k) { return p2[k]->x(); }), in.p2y = lanes_of([&](int k) { return p2[k]->y(); });
+        in.e0x = lanes_of([&](int k) { return e0[k]->x(); }), in.e0y = lanes_of([&](int k) { return e0[k]->y(); });
+        in.e1x = lanes_of([&](int k) { return e1[k]->x(); }), in.e1y = lanes_of([&](int k) { return e1[k]->y(); });
+        in.qx = lanes_of([&](int k) { return x[3 * centre[k]]; }), in.qy = lanes_of([&](int k) { return x[3 * centre[k] + 1]; });
+        in.margin = lanes_of([&](int k) { return margin[k]; });
+        in.chord_reversed = Mask4{corner_of_b[0], corner_of_b[1], corner_of_b[2], corner_of_b[3]};
+        two_crossing::corner_in_edge_lanes(in, out);
         for (std::size_t lane = 0; lane < lanes; ++lane) {
           if (!out.ok[lane]) {
             done(pairs[first + lane], nullptr);
@@ -888,7 +903,7 @@ void World::collide_and_compute_forces() {
     };
     // The exact broad-phase test of a listed pair: bounding circles, or a grain's circle against
     // a wall's box (the wall's pairs come first in the list, so that branch is foreseeable).
-    const auto may_touch = [&](std::size_t q) -> bool {
+    const auto may_touch = [&](std::size_t q) __attribute__((always_inline)) -> bool {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const BodyGeometry& sb = geometry[b];
       const Vec2 pb(x[3 * b], x[3 * b + 1]);
@@ -899,16 +914,16 @@ void World::collide_and_compute_forces() {
     };
     // A polygon pair proven apart stays apart until its corners have moved as far as the gap
     // was. Between two steps they moved at most the sum of their displacements from the list's
-    // build at both.
-    const auto proven_apart_still = [&](std::size_t q) -> bool {
+    // build at both. Only a polygon pair is ever proven apart (polygon_overlap); any other keeps
+    // the 0 of the list's build, which no displacement is below.
+    const auto proven_apart_still = [&](std::size_t q) __attribute__((always_inline)) -> bool {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-      const bool polygons = !geometry[a].is_disc & !geometry[b].is_disc;
-      return polygons & (displacement[a] + displacement[b] < apart_until[q]);
+      return displacement[a] + displacement[b] < apart_until[q];
     };
     // The narrow phase of a candidate pair not proven apart: its overlap, o. Returns apart,
     // overlap (o holds it) or deferred: a corner-in-edge contact by its hint, left to the batch.
     enum Narrow : std::uint8_t { apart, overlap, deferred };
-    const auto narrow = [&](std::size_t q, Overlap& o) -> Narrow {
+    const auto narrow = [&](std::size_t q, Overlap& o) __attribute__((always_inline)) -> Narrow {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const BodyGeometry& sa = geometry[a];
       const BodyGeometry& sb = geometry[b];
@@ -934,70 +949,91 @@ void World::collide_and_compute_forces() {
     // overlap and whether it touched at the last step (whose spring it then continues); their
     // loads and the deepest overlap. Spare lanes repeat the last pair and are not stored.
     const auto apply_contact_law = [&](const std::size_t* pairs, std::size_t count, const Overlap* overlaps,
-                                       const std::uint8_t* touched, std::size_t first_pair) {
-      ContactLanes in;
+                                       const std::uint8_t* touched, std::size_t first_pair) __attribute__((always_inline)) {
       ContactLaneForces out;
       for (std::size_t first = 0; first < count; first += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, count - first);
+        // Each lane's pair, its bodies and its slot in the chunk's arrays (spare lanes repeat the
+        // last pair), then each input as one vector of the four lanes' values.
+        std::size_t q[4], slot[4];
+        int a[4], b[4];
         for (std::size_t lane = 0; lane < 4; ++lane) {
-          const std::size_t q = pairs[first + std::min(lane, lanes - 1)];
-          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-          const Overlap& o = overlaps[q - first_pair];
-          const Contact& ct = pair_contact[q];
-          const bool continues = touched[q - first_pair] != 0;
-          in.area[lane] = o.area, in.chord[lane] = o.chord;
-          in.point_x[lane] = o.point.x(), in.point_y[lane] = o.point.y();
-          in.normal_x[lane] = o.normal.x(), in.normal_y[lane] = o.normal.y();
-          in.centre_a_x[lane] = x[3 * a], in.centre_a_y[lane] = x[3 * a + 1];
-          in.centre_b_x[lane] = x[3 * b], in.centre_b_y[lane] = x[3 * b + 1];
-          in.velocity_a_x[lane] = v[3 * a], in.velocity_a_y[lane] = v[3 * a + 1], in.spin_a[lane] = v[3 * a + 2];
-          in.velocity_b_x[lane] = v[3 * b], in.velocity_b_y[lane] = v[3 * b + 1], in.spin_b[lane] = v[3 * b + 2];
-          in.inverse_mass_a[lane] = inv_mass[a], in.inverse_mass_b[lane] = inv_mass[b];
-          in.inverse_inertia_a[lane] = inv_inertia[a], in.inverse_inertia_b[lane] = inv_inertia[b];
-          in.lever_floor_a[lane] = 0.5 * geometry[a].inner_radius;
-          in.lever_floor_b[lane] = 0.5 * geometry[b].inner_radius;
-          in.a_is_wall[lane] = a < wall_count ? -1 : 0;
-          in.old_spring[lane] = continues ? ct.spring : 0.0;
-          in.old_normal_x[lane] = continues ? ct.normal.x() : 0.0;
-          in.old_normal_y[lane] = continues ? ct.normal.y() : 0.0;
+          q[lane] = pairs[first + std::min(lane, lanes - 1)];
+          slot[lane] = q[lane] - first_pair;
+          a[lane] = static_cast<int>(pair_keys[q[lane]] >> 32), b[lane] = static_cast<int>(pair_keys[q[lane]] & 0xffffffffu);
         }
-        contact_law_x4(law, dt, in, out);
+        ContactLanes in;
+        in.area = lanes_of([&](int k) { return overlaps[slot[k]].area; });
+        in.chord = lanes_of([&](int k) { return overlaps[slot[k]].chord; });
+        in.point_x = lanes_of([&](int k) { return overlaps[slot[k]].point.x(); });
+        in.point_y = lanes_of([&](int k) { return overlaps[slot[k]].point.y(); });
+        in.normal_x = lanes_of([&](int k) { return overlaps[slot[k]].normal.x(); });
+        in.normal_y = lanes_of([&](int k) { return overlaps[slot[k]].normal.y(); });
+        in.centre_a_x = lanes_of([&](int k) { return x[3 * a[k]]; });
+        in.centre_a_y = lanes_of([&](int k) { return x[3 * a[k] + 1]; });
+        in.centre_b_x = lanes_of([&](int k) { return x[3 * b[k]]; });
+        in.centre_b_y = lanes_of([&](int k) { return x[3 * b[k] + 1]; });
+        in.velocity_a_x = lanes_of([&](int k) { return v[3 * a[k]]; });
+        in.velocity_a_y = lanes_of([&](int k) { return v[3 * a[k] + 1]; });
+        in.spin_a = lanes_of([&](int k) { return v[3 * a[k] + 2]; });
+        in.velocity_b_x = lanes_of([&](int k) { return v[3 * b[k]]; });
+        in.velocity_b_y = lanes_of([&](int k) { return v[3 * b[k] + 1]; });
+        in.spin_b = lanes_of([&](int k) { return v[3 * b[k] + 2]; });
+        in.inverse_mass_a = lanes_of([&](int k) { return inv_mass[a[k]]; });
+        in.inverse_mass_b = lanes_of([&](int k) { return inv_mass[b[k]]; });
+        in.inverse_inertia_a = lanes_of([&](int k) { return inv_inertia[a[k]]; });
+        in.inverse_inertia_b = lanes_of([&](int k) { return inv_inertia[b[k]]; });
+        const Double4 inner_a = lanes_of([&](int k) { return geometry[a[k]].inner_radius; });
+        const Double4 inner_b = lanes_of([&](int k) { return geometry[b[k]].inner_radius; });
+        in.lever_floor_a = 0.5 * inner_a;
+        in.lever_floor_b = 0.5 * inner_b;
+        in.a_is_wall = Mask4{a[0] < wall_count, a[1] < wall_count, a[2] < wall_count, a[3] < wall_count} * -1;
+        const Mask4 continues = Mask4{touched[slot[0]], touched[slot[1]], touched[slot[2]], touched[slot[3]]} != 0;
+        const Double4 zero = {0.0, 0.0, 0.0, 0.0};
+        in.old_spring = continues ? lanes_of([&](int k) { return pair_contact[q[k]].spring; }) : zero;
+        in.old_normal_x = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.x(); }) : zero;
+        in.old_normal_y = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.y(); }) : zero;
+        contact_law_lanes(law, dt, in, out);
+
+        // The swing (SwingingContact): does the area's change reverse that of the last step? A
+        // new contact's area grew from nothing (no reversal yet); the last step's area is still
+        // in pair_contact where the contact continues.
+        const Double4 last_area = continues ? lanes_of([&](int k) { return pair_contact[q[k]].area; }) : zero;
+        const Double4 change = in.area - last_area;
+        const Mask4 grew = ~continues | (change > 0.0);
+        const Mask4 may_reverse = continues & (lane_abs(change) > SwingingContact::swing_floor * in.area);
+        // The overlap is convex and the chord joins two points of its boundary, so no point of it
+        // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts, over
+        // the pair's smaller inner radius (the grain's, against a wall).
+        const Mask4 has_chord = in.chord > 0.0;
+        Double4 depth = 2.0 * in.area / in.chord;
+        if (!(has_chord[0] & has_chord[1] & has_chord[2] & has_chord[3]))
+          depth = has_chord ? depth : lane_sqrt(in.area);
+        const Double4 inner = in.a_is_wall ? inner_b : lane_min(inner_a, inner_b);
+        const Double4 fraction = depth / inner;
+
         for (std::size_t lane = 0; lane < lanes; ++lane) {
-          const std::size_t q = pairs[first + lane];
-          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-          const Overlap& o = overlaps[q - first_pair];
-          Contact& ct = pair_contact[q];
-          ct.a = a;
-          ct.b = b;
+          const Overlap& o = overlaps[slot[lane]];
+          Contact& ct = pair_contact[q[lane]];
+          ct.a = a[lane];
+          ct.b = b[lane];
           ct.spring = out.spring[lane];
-          // The swing (SwingingContact): does the area's change reverse that of the last step?
-          // ct.area is still the last step's where the contact continues.
-          const double change = o.area - ct.area;
-          // A new contact's area grew from nothing (ct.area is stale, no reversal yet).
-          const bool continues = touched[q - first_pair] != 0;
-          const std::uint8_t grew = !continues || change > 0.0 ? 0x80 : 0, swing = pair_swing[q];
-          const bool reverses = continues && grew != (swing & 0x80) &&
-                                std::abs(change) > SwingingContact::swing_floor * o.area;
-          const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
-          pair_swing[q] = static_cast<std::uint8_t>(grew | swings);
-          step_longest_swing = std::max(step_longest_swing, swings);
           ct.point = o.point;
           ct.normal = o.normal;
           ct.normal_force = out.normal[lane];
           ct.tangential_force = out.tangential[lane];
           ct.area = o.area;
           ct.chord = o.chord;
-          end_load[pair_ends[2 * q + 1]] = {out.force_x[lane], out.force_y[lane], out.torque_b[lane]};
-          end_load[pair_ends[2 * q]] = {-out.force_x[lane], -out.force_y[lane], out.torque_a[lane]};
-          // The overlap is convex and the chord joins two points of its boundary, so no point of
-          // it lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts.
-          const double depth = o.chord > 0.0 ? 2.0 * o.area / o.chord : std::sqrt(o.area);
-          const double inner = a < wall_count ? geometry[b].inner_radius
-                                              : std::min(geometry[a].inner_radius, geometry[b].inner_radius);
-          const double fraction = depth / inner;
-          if (fraction > deepest || (fraction == deepest && body_key(q) < body_key(deepest_pair))) {
-            deepest = fraction;
-            deepest_pair = q;
+          const std::uint8_t grew_bit = grew[lane] ? 0x80 : 0, swing = pair_swing[q[lane]];
+          const bool reverses = may_reverse[lane] && grew_bit != (swing & 0x80);
+          const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
+          pair_swing[q[lane]] = static_cast<std::uint8_t>(grew_bit | swings);
+          step_longest_swing = std::max(step_longest_swing, swings);
+          end_load[pair_ends[2 * q[lane] + 1]] = {out.force_x[lane], out.force_y[lane], out.torque_b[lane]};
+          end_load[pair_ends[2 * q[lane]]] = {-out.force_x[lane], -out.force_y[lane], out.torque_a[lane]};
+          if (fraction[lane] > deepest || (fraction[lane] == deepest && body_key(q[lane]) < body_key(deepest_pair))) {
+            deepest = fraction[lane];
+            deepest_pair = q[lane];
           }
         }
         touching_pairs += lanes;
@@ -1021,22 +1057,17 @@ void World::collide_and_compute_forces() {
       // The chunk's pairs pass through filters, each writing the list of those that pass on
       // without a branch (every pair is written, the count advanced if it passes): the outcome
       // of each test is close to a coin's toss, which the processor would mispredict.
-      std::size_t open_count = 0;  // the candidates, then those of them not proven apart
+      std::size_t open_count = 0, candidate_count = 0, proven_count = 0;  // open: candidates not proven apart
       for (std::size_t q = first; q < last; ++q) {
+        const bool candidate = may_touch(q), proven = proven_apart_still(q);
         outcome[q - first] = apart;
         open[open_count] = q;
-        open_count += may_touch(q);
+        open_count += candidate & !proven;
+        candidate_count += candidate;
+        proven_count += candidate & proven;
       }
-      candidates += open_count;
-      const std::size_t candidate_count = open_count;
-      open_count = 0;
-      for (std::size_t k = 0; k < candidate_count; ++k) {
-        const std::size_t q = open[k];
-        const bool proven = proven_apart_still(q);
-        open[open_count] = q;
-        open_count += !proven;
-        proven_apart += proven;
-      }
+      candidates += candidate_count;
+      proven_apart += proven_count;
       std::size_t deferred_count = 0;
       for (std::size_t k = 0; k < open_count; ++k) {
         const std::size_t q = open[k];
@@ -1045,7 +1076,7 @@ void World::collide_and_compute_forces() {
         batch[deferred_count] = q;
         deferred_count += result == deferred;
       }
-      batched_corner_in_edge(batch, deferred_count, [&](std::size_t q, const Overlap* o) {
+      batched_corner_in_edge(batch, deferred_count, [&](std::size_t q, const Overlap* o) __attribute__((always_inline)) {
         Overlap& slot = overlaps[q - first];
         if (o)
           slot = *o;
@@ -1096,6 +1127,7 @@ void World::collide_and_compute_forces() {
 // of a pair opposite forces (Newton's third law). Pairs that do not touch carry zeros, which
 // leave a sum unchanged. Then each grain's acceleration (paper eq. 1) and the corrector, and a
 // check that the grain's state is still finite.
+PILELAB_AVX2_AND_SSE2
 void World::gather_and_correct() {
   const int* const pair_start = body_pair_start_.data();
   const EndLoad* const end_load = end_load_.data();

@@ -101,6 +101,18 @@ TEST_F(Reproducibility, SameFilesWhateverTheCpuMathsVariant) {
   expect_identical_outputs(path("a"), path("b"));
 }
 
+// The step's passes are compiled for AVX2 and for SSE2 and the processor picks one when the
+// program starts (four_lanes.h); both must pour the same pile. The SSE2 half runs from a build
+// of the DEM with that code alone.
+TEST_F(Reproducibility, SameFilesWhateverTheInstructionSet) {
+  if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 here: both runs would take the SSE2 code";
+  const std::string scene = write_scene("scene.toml", tiny_scene());
+  ASSERT_EQ(run("dem " + scene + " -o " + path("avx2") + " -q").exit_code, 0);
+  const auto sse2 = run(std::string(PILELAB_DEM_SSE2_BINARY) + " " + scene + " " + path("sse2"), "", false);
+  ASSERT_EQ(sse2.exit_code, 0) << sse2.output;
+  expect_identical_outputs(path("avx2"), path("sse2"));
+}
+
 TEST_F(Reproducibility, DifferentSeedsGiveDifferentPiles) {
   const std::string one = write_scene("one.toml", tiny_scene());
   std::string text = tiny_scene();

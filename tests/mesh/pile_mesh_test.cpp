@@ -15,10 +15,20 @@ using namespace pilelab::mesh;
 namespace dem = pilelab::dem;
 
 namespace {
+// This process's scratch directory, removed when the process ends.
+struct ScratchDirectory {
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("pilelab_mesh_test_" + std::to_string(::getpid()));
+  ~ScratchDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir, ignored);
+  }
+};
+
 std::string temp_path(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("pilelab_mesh_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const ScratchDirectory scratch;
+  std::filesystem::create_directories(scratch.dir);
+  return (scratch.dir / name).string();
 }
 
 std::map<int, double> boundary_lengths(const TriangleMesh& m) {

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """The speed-accuracy study's table and Pareto figure, from its measurements alone
 (docs/studies/speed_accuracy/data/*.json, written by run.py): docs/studies/speed_accuracy.md's
-table between its markers, and docs/studies/speed_accuracy/pareto.png.
+table between its markers, the same numbers as docs/studies/speed_accuracy/table.csv (value and
+standard error in two columns each), and docs/studies/speed_accuracy/pareto.png.
 
     /usr/bin/python3 studies/speed_accuracy/tables.py [--data DIR] [--doc FILE] [--figures DIR]
 
@@ -191,6 +192,8 @@ def rows(results):
                  "time": f"{t:.1f}" + (f" ± {ts:.1f}" if ts else "") + (" (later stages)" if later else ""),
                  "speed": f"{t_ref / t:.2f}" if t_ref and t else "-"}
         flags = []
+        numbers = {"time": (t, ts), "speed": ((t_ref / t) if t_ref and t else None, None)}
+        cells["numbers"] = numbers
 
         def counted(v, s, label):
             if v is not None and s is not None and abs(v) > 2 * s:
@@ -204,20 +207,24 @@ def rows(results):
                                             ("fit_E_N_per_m", "E", 0, True)):
                 v, s = difference(d, ref, key, rel)
                 cells[key] = fmt(v, s, digits, 100.0 if rel else 1.0)
+                numbers[key] = (v, s)
                 if key != "fit_E_N_per_m":
                     counted(v, s, label)
             l2, floor = profile_l2(d, ref)
             cells["profile"] = "-" if l2 is None else f"{l2:.3f} (noise {floor:.3f})"
+            numbers["profile"] = (l2, floor)
             if l2 is not None and l2 > 2 * floor:
                 flags.append("base profile")
             for model in ("elastic", "fpa"):
                 v, s = difference(d, ref, f"{model}_relative_l2_stress_yy")
                 cells[f"{model}_l2"] = fmt(v, s, 3)
+                numbers[f"{model}_l2"] = (v, s)
         else:
             for key in ("repose_angle_pile_mean_deg", "stress_tilt_flanks_deg", "fabric_trace_core",
                         "volume_fraction_core", "fit_E_N_per_m", "profile", "elastic_l2", "fpa_l2"):
                 cells[key] = "(reference)" if is_reference else "-"
         lost = 0 if later else sum(m["lost"] for m in d.get("members", []))
+        cells["lost"] = lost
         if ref is None:
             cells["verdict"] = "its reference is not measured yet"
         else:
@@ -250,6 +257,42 @@ def markdown(results, table):
     if missing:
         lines += ["", f"Not yet measured: {', '.join(missing)}."]
     return "\n".join(lines) + "\n"
+
+
+# The table's numbers for other tools: (column, cell key, what the two numbers are).
+CSV_COLUMNS = [("cost_per_pile", "time", "core-seconds per pile (DEM) or seconds of the later stages; its SE over piles"),
+               ("speed_up", "speed", "the reference's cost over the setting's"),
+               ("repose_angle_deg", "repose_angle_pile_mean_deg", "difference from the reference, deg; SE"),
+               ("base_sigma_yy_relative_l2", "profile", "relative L2 against the reference; its noise floor"),
+               ("stress_tilt_flanks_deg", "stress_tilt_flanks_deg", "difference, deg; SE"),
+               ("fabric_trace_core", "fabric_trace_core", "relative difference (0.01 = 1 %); SE"),
+               ("volume_fraction_core", "volume_fraction_core", "relative difference; SE"),
+               ("fitted_E", "fit_E_N_per_m", "relative difference; SE"),
+               ("elastic_l2_stress_yy", "elastic_l2", "difference of the relative L2; SE"),
+               ("fpa_l2_stress_yy", "fpa_l2", "difference of the relative L2; SE")]
+
+
+def csv_table(table, path):
+    """The table as CSV with each quantity's value and standard error (or noise floor) in two
+    columns, empty where not measured or for the references themselves; written to a
+    temporary name and renamed."""
+    import csv
+    header = ["knob", "setting", "reference"]
+    for column, _, _ in CSV_COLUMNS:
+        header += [column, column + ("_noise" if column.endswith("relative_l2") else "_se")]
+    header += ["grains_lost", "verdict"]
+    number = lambda v: "" if v is None or not np.isfinite(v) else f"{v:.6g}"  # noqa: E731
+    with open(path + ".tmp", "w", newline="", encoding="utf-8") as f:
+        out = csv.writer(f)
+        out.writerow(header)
+        for r in table:
+            row = [r["knob"], r["setting"], r["reference"]]
+            for _, key, _ in CSV_COLUMNS:
+                v, s = r["numbers"].get(key, (None, None))
+                row += [number(v), number(s)]
+            row += [r["lost"], r["verdict"].split(";")[0]]
+            out.writerow(row)
+    os.replace(path + ".tmp", path)
 
 
 def pareto(results, path):
@@ -325,8 +368,10 @@ def main():
         sys.exit(f"tables.py: no measurements in {args.data} (run studies/speed_accuracy/run.py)")
     paper.replace_between_markers(args.doc, "studies/speed_accuracy/tables.py", markdown(results, rows(results)))
     os.makedirs(args.figures, exist_ok=True)
+    table = rows(results)
+    csv_table(table, os.path.join(args.figures, "table.csv"))
     pareto(results, os.path.join(args.figures, "pareto.png"))
-    print(f"tables.py: {len(results)} settings -> {args.doc}, {args.figures}/pareto.png")
+    print(f"tables.py: {len(results)} settings -> {args.doc}, {args.figures}/table.csv, {args.figures}/pareto.png")
 
 
 if __name__ == "__main__":

@@ -97,7 +97,9 @@ struct ContactLaneForces {
 }
 #pragma GCC diagnostic pop
 
-/// The same, called.
+/// contact_law_lanes as a function of its own, cloned for AVX2 and SSE2 (four_lanes.h): the
+/// entry point of the tests that compare every lane with the scalar law. The pair loop inlines
+/// contact_law_lanes instead.
 void contact_law_x4(const ContactParameters& law, double dt, const ContactLanes& in, ContactLaneForces& out);
 
 }  // namespace pilelab::dem

@@ -424,7 +424,9 @@ struct CornerInEdgeOverlaps {
 }
 #pragma GCC diagnostic pop
 
-/// The same, called (AVX2 where the processor has it).
+/// corner_in_edge_lanes as a function of its own, cloned for AVX2 and SSE2 (four_lanes.h): the
+/// entry point of the test that compares it with the scalar path. The pair loop inlines
+/// corner_in_edge_lanes instead.
 void corner_in_edge_x4(const CornerInEdgeBatch& in, CornerInEdgeOverlaps& out);
 
 }  // namespace pilelab::dem::two_crossing

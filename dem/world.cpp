@@ -797,16 +797,27 @@ void World::collide_and_compute_forces() {
     for (std::size_t q = first; q < last; ++q) touched_last_step += pair_touching[q];
     chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * touched_last_step;
   }
-  const std::size_t* const cost_end = chunk_cost_end_.data();
+  // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
+  // later (0 for the first thread); the last thread's run ends at the last chunk. A thread
+  // that finishes its run early takes chunks from the end of another's (shared_runs.h).
+  const bool parallel = n >= static_cast<std::size_t>(parallel_threshold);
+  const std::size_t threads = parallel ? static_cast<std::size_t>(max_thread_count()) : 1;
+  run_first_.resize(threads + 1);
+  for (std::size_t t = 0; t < threads; ++t)
+    run_first_[t] = static_cast<std::size_t>(
+        std::lower_bound(chunk_cost_end_.begin(), chunk_cost_end_.begin() + chunks, (chunk_cost_end_[chunks] * t + threads - 1) / threads) -
+        chunk_cost_end_.begin());
+  run_first_[threads] = chunks;
+  SharedRuns& chunk_runs = shared_runs_;
+  chunk_runs.assign(run_first_.data(), static_cast<int>(threads));
   // Each thread's working arrays for a chunk, kept from step to step: no allocation in the step.
   if (chunk_scratch_.size() < static_cast<std::size_t>(max_thread_count())) {
     chunk_scratch_.resize(max_thread_count());
     for (ChunkScratch& c : chunk_scratch_) {
       c.overlaps.resize(pair_chunk);
       c.outcome.resize(pair_chunk);
-      c.touched.resize(pair_chunk);
-      c.open.resize(pair_chunk);
-      c.batch.resize(pair_chunk);
+      c.by_corner.resize(pair_chunk);
+      c.others.resize(pair_chunk);
       c.touching.resize(pair_chunk);
     }
   }
@@ -814,7 +825,7 @@ void World::collide_and_compute_forces() {
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step.
-#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs, proven_apart) \
+#pragma omp parallel if (parallel) reduction(+ : candidates, touching_pairs, proven_apart) \
     reduction(max : step_longest_swing)
   {
     double deepest = 0.0;
@@ -841,66 +852,6 @@ void World::collide_and_compute_forces() {
       }
       return false;
     };
-    // The pairs whose hint is a corner of one polygon in an edge of the other, four at a time
-    // (two_crossing::corner_in_edge_x4); each pair's overlap to done(q, overlap), or a null
-    // overlap where the batch could not prove it.
-    const auto batched_corner_in_edge = [&](const std::size_t* pairs, std::size_t count, auto&& done) __attribute__((always_inline)) {
-      two_crossing::CornerInEdgeOverlaps out;
-      for (std::size_t first = 0; first < count; first += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, count - first);
-        // Each lane's corner c with its neighbours p0 and p2, the edge e0 -> e1 and the centre of
-        // the edge's polygon; then each coordinate as one vector of the four lanes' values.
-        const Vec2 *p0[4], *c[4], *p2[4], *e0[4], *e1[4];
-        int centre[4];
-        double margin[4];
-        std::int64_t corner_of_b[4];
-        for (std::size_t lane = 0; lane < 4; ++lane) {
-          const std::size_t q = pairs[first + std::min(lane, lanes - 1)];  // spare lanes repeat the last
-          const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
-          const BodyGeometry& sa = geometry[a];
-          const BodyGeometry& sb = geometry[b];
-          const int i = hints[q].edge[0], k = hints[q].edge[1], j = hints[q].edge[2], l = hints[q].edge[3];
-          // a's corner j after a's corner i, in b's edge k; or b's corner k after b's corner l, in
-          // a's edge i (two_crossing_overlap). Chosen without a branch: either is as likely.
-          const bool of_b = k != l;
-          corner_of_b[lane] = of_b ? -1 : 0;
-          const BodyGeometry& corner_body = of_b ? sb : sa;
-          const BodyGeometry& edge_body = of_b ? sa : sb;
-          const Vec2* const corners = world_vertices + corner_body.first_corner;
-          const Vec2* const edges = world_vertices + edge_body.first_corner;
-          const int before = of_b ? l : i, corner = of_b ? k : j, edge = of_b ? i : k;
-          p0[lane] = &corners[before], c[lane] = &corners[corner];
-          p2[lane] = &corners[two_crossing::next_index(corner, corner_body.corner_count)];
-          e0[lane] = &edges[edge], e1[lane] = &edges[two_crossing::next_index(edge, edge_body.corner_count)];
-          centre[lane] = of_b ? a : b;
-          margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
-        }
-        two_crossing::CornerInEdgeBatch in;
-        in.p0x = lanes_of([&](int k) { return p0[k]->x(); }), in.p0y = lanes_of([&](int k) { return p0[k]->y(); });
-        in.cx = lanes_of([&](int k) { return c[k]->x(); }), in.cy = lanes_of([&](int k) { return c[k]->y(); });
-        in.p2x = lanes_of([&](int k) { return p2[k]->x(); }), in.p2y = lanes_of([&](int k) { return p2[k]->y(); });
-        in.e0x = lanes_of([&](int k) { return e0[k]->x(); }), in.e0y = lanes_of([&](int k) { return e0[k]->y(); });
-        in.e1x = lanes_of([&](int k) { return e1[k]->x(); }), in.e1y = lanes_of([&](int k) { return e1[k]->y(); });
-        in.qx = lanes_of([&](int k) { return x[3 * centre[k]]; }), in.qy = lanes_of([&](int k) { return x[3 * centre[k] + 1]; });
-        in.margin = lanes_of([&](int k) { return margin[k]; });
-        in.chord_reversed = Mask4{corner_of_b[0], corner_of_b[1], corner_of_b[2], corner_of_b[3]};
-        two_crossing::corner_in_edge_lanes(in, out);
-        for (std::size_t lane = 0; lane < lanes; ++lane) {
-          if (!out.ok[lane]) {
-            done(pairs[first + lane], nullptr);
-            continue;
-          }
-          // two_crossing_result's overlap (for b's corner the chord runs from X_out to X_in).
-          Overlap o;
-          o.area = out.area[lane];
-          o.chord = out.chord[lane];
-          o.point = Vec2(out.point_x[lane], out.point_y[lane]);
-          o.normal = Vec2(out.normal_x[lane], out.normal_y[lane]);
-          o.crossings = 2;
-          done(pairs[first + lane], &o);
-        }
-      }
-    };
     // The exact broad-phase test of a listed pair: bounding circles, or a grain's circle against
     // a wall's box (the wall's pairs come first in the list, so that branch is foreseeable).
     const auto may_touch = [&](std::size_t q) __attribute__((always_inline)) -> bool {
@@ -920,181 +871,255 @@ void World::collide_and_compute_forces() {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       return displacement[a] + displacement[b] < apart_until[q];
     };
-    // The narrow phase of a candidate pair not proven apart: its overlap, o. Returns apart,
-    // overlap (o holds it) or deferred: a corner-in-edge contact by its hint, left to the batch.
-    enum Narrow : std::uint8_t { apart, overlap, deferred };
-    const auto narrow = [&](std::size_t q, Overlap& o) __attribute__((always_inline)) -> Narrow {
+    // The overlap of a candidate pair the scalar way; false if it does not touch.
+    const auto narrow = [&](std::size_t q, Overlap& o) __attribute__((always_inline)) -> bool {
       const int a = static_cast<int>(pair_keys[q] >> 32), b = static_cast<int>(pair_keys[q] & 0xffffffffu);
       const BodyGeometry& sa = geometry[a];
       const BodyGeometry& sb = geometry[b];
       const Vec2 pa(x[3 * a], x[3 * a + 1]), pb(x[3 * b], x[3 * b + 1]);
-      const Vec2* const corners_a = world_vertices + sa.first_corner;
-      const Vec2* const corners_b = world_vertices + sb.first_corner;
-      const int count_a = sa.corner_count, count_b = sb.corner_count;
-      if (!sa.is_disc && !sb.is_disc) {
-        if (two_crossing::corner_in_edge_hint(hints[q], count_a, count_b)) return deferred;
-        if (!polygon_overlap(q, o)) return apart;
-      } else if (sa.is_disc && sb.is_disc) {
+      if (!sa.is_disc && !sb.is_disc) return polygon_overlap(q, o);
+      if (sa.is_disc && sb.is_disc) {
         o = overlap_discs(pa, sa.radius, pb, sb.radius);
       } else if (sa.is_disc) {
-        o = overlap_disc_polygon(pa, sa.radius, corners_b, count_b, pb);
+        o = overlap_disc_polygon(pa, sa.radius, world_vertices + sb.first_corner, sb.corner_count, pb);
       } else {
-        o = overlap_disc_polygon(pb, sb.radius, corners_a, count_a, pa);
+        o = overlap_disc_polygon(pb, sb.radius, world_vertices + sa.first_corner, sa.corner_count, pa);
         o.normal = -o.normal;
       }
-      return o.touching() ? overlap : apart;
+      return o.touching();
     };
 
-    // The contact law of touching pairs, four at a time (contact_law_x4), given each pair's
-    // overlap and whether it touched at the last step (whose spring it then continues); their
-    // loads and the deepest overlap. Spare lanes repeat the last pair and are not stored.
-    const auto apply_contact_law = [&](const std::size_t* pairs, std::size_t count, const Overlap* overlaps,
-                                       const std::uint8_t* touched, std::size_t first_pair) __attribute__((always_inline)) {
+    // The contact law of four touching pairs q[0..3] (contact_law_x4), whose overlaps the caller
+    // has put in the lanes of `in`; the lanes whose bit is set in `store` are kept: the pair's
+    // contact, the loads at its two ends, its swing and the deepest overlap. Whether a pair
+    // continues the last step's contact (and its spring) is read from pair_touching, which the
+    // chunk updates only after every law of the chunk.
+    const auto apply_contact_law = [&](const std::size_t* q, unsigned store, ContactLanes& in) __attribute__((always_inline)) {
       ContactLaneForces out;
-      for (std::size_t first = 0; first < count; first += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, count - first);
-        // Each lane's pair, its bodies and its slot in the chunk's arrays (spare lanes repeat the
-        // last pair), then each input as one vector of the four lanes' values.
-        std::size_t q[4], slot[4];
-        int a[4], b[4];
-        for (std::size_t lane = 0; lane < 4; ++lane) {
-          q[lane] = pairs[first + std::min(lane, lanes - 1)];
-          slot[lane] = q[lane] - first_pair;
-          a[lane] = static_cast<int>(pair_keys[q[lane]] >> 32), b[lane] = static_cast<int>(pair_keys[q[lane]] & 0xffffffffu);
-        }
-        ContactLanes in;
-        in.area = lanes_of([&](int k) { return overlaps[slot[k]].area; });
-        in.chord = lanes_of([&](int k) { return overlaps[slot[k]].chord; });
-        in.point_x = lanes_of([&](int k) { return overlaps[slot[k]].point.x(); });
-        in.point_y = lanes_of([&](int k) { return overlaps[slot[k]].point.y(); });
-        in.normal_x = lanes_of([&](int k) { return overlaps[slot[k]].normal.x(); });
-        in.normal_y = lanes_of([&](int k) { return overlaps[slot[k]].normal.y(); });
-        in.centre_a_x = lanes_of([&](int k) { return x[3 * a[k]]; });
-        in.centre_a_y = lanes_of([&](int k) { return x[3 * a[k] + 1]; });
-        in.centre_b_x = lanes_of([&](int k) { return x[3 * b[k]]; });
-        in.centre_b_y = lanes_of([&](int k) { return x[3 * b[k] + 1]; });
-        in.velocity_a_x = lanes_of([&](int k) { return v[3 * a[k]]; });
-        in.velocity_a_y = lanes_of([&](int k) { return v[3 * a[k] + 1]; });
-        in.spin_a = lanes_of([&](int k) { return v[3 * a[k] + 2]; });
-        in.velocity_b_x = lanes_of([&](int k) { return v[3 * b[k]]; });
-        in.velocity_b_y = lanes_of([&](int k) { return v[3 * b[k] + 1]; });
-        in.spin_b = lanes_of([&](int k) { return v[3 * b[k] + 2]; });
-        in.inverse_mass_a = lanes_of([&](int k) { return inv_mass[a[k]]; });
-        in.inverse_mass_b = lanes_of([&](int k) { return inv_mass[b[k]]; });
-        in.inverse_inertia_a = lanes_of([&](int k) { return inv_inertia[a[k]]; });
-        in.inverse_inertia_b = lanes_of([&](int k) { return inv_inertia[b[k]]; });
-        const Double4 inner_a = lanes_of([&](int k) { return geometry[a[k]].inner_radius; });
-        const Double4 inner_b = lanes_of([&](int k) { return geometry[b[k]].inner_radius; });
-        in.lever_floor_a = 0.5 * inner_a;
-        in.lever_floor_b = 0.5 * inner_b;
-        in.a_is_wall = Mask4{a[0] < wall_count, a[1] < wall_count, a[2] < wall_count, a[3] < wall_count} * -1;
-        const Mask4 continues = Mask4{touched[slot[0]], touched[slot[1]], touched[slot[2]], touched[slot[3]]} != 0;
-        const Double4 zero = {0.0, 0.0, 0.0, 0.0};
-        in.old_spring = continues ? lanes_of([&](int k) { return pair_contact[q[k]].spring; }) : zero;
-        in.old_normal_x = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.x(); }) : zero;
-        in.old_normal_y = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.y(); }) : zero;
-        contact_law_lanes(law, dt, in, out);
+      int a[4], b[4];
+      for (std::size_t lane = 0; lane < 4; ++lane)
+        a[lane] = static_cast<int>(pair_keys[q[lane]] >> 32), b[lane] = static_cast<int>(pair_keys[q[lane]] & 0xffffffffu);
+      in.centre_a_x = lanes_of([&](int k) { return x[3 * a[k]]; });
+      in.centre_a_y = lanes_of([&](int k) { return x[3 * a[k] + 1]; });
+      in.centre_b_x = lanes_of([&](int k) { return x[3 * b[k]]; });
+      in.centre_b_y = lanes_of([&](int k) { return x[3 * b[k] + 1]; });
+      in.velocity_a_x = lanes_of([&](int k) { return v[3 * a[k]]; });
+      in.velocity_a_y = lanes_of([&](int k) { return v[3 * a[k] + 1]; });
+      in.spin_a = lanes_of([&](int k) { return v[3 * a[k] + 2]; });
+      in.velocity_b_x = lanes_of([&](int k) { return v[3 * b[k]]; });
+      in.velocity_b_y = lanes_of([&](int k) { return v[3 * b[k] + 1]; });
+      in.spin_b = lanes_of([&](int k) { return v[3 * b[k] + 2]; });
+      in.inverse_mass_a = lanes_of([&](int k) { return inv_mass[a[k]]; });
+      in.inverse_mass_b = lanes_of([&](int k) { return inv_mass[b[k]]; });
+      in.inverse_inertia_a = lanes_of([&](int k) { return inv_inertia[a[k]]; });
+      in.inverse_inertia_b = lanes_of([&](int k) { return inv_inertia[b[k]]; });
+      const Double4 inner_a = lanes_of([&](int k) { return geometry[a[k]].inner_radius; });
+      const Double4 inner_b = lanes_of([&](int k) { return geometry[b[k]].inner_radius; });
+      in.lever_floor_a = 0.5 * inner_a;
+      in.lever_floor_b = 0.5 * inner_b;
+      in.a_is_wall = Mask4{a[0] < wall_count, a[1] < wall_count, a[2] < wall_count, a[3] < wall_count} * -1;
+      const Mask4 continues =
+          Mask4{pair_touching[q[0]], pair_touching[q[1]], pair_touching[q[2]], pair_touching[q[3]]} != 0;
+      const Double4 zero = {0.0, 0.0, 0.0, 0.0};
+      in.old_spring = continues ? lanes_of([&](int k) { return pair_contact[q[k]].spring; }) : zero;
+      in.old_normal_x = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.x(); }) : zero;
+      in.old_normal_y = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.y(); }) : zero;
+      contact_law_lanes(law, dt, in, out);
 
-        // The swing (SwingingContact): does the area's change reverse that of the last step? A
-        // new contact's area grew from nothing (no reversal yet); the last step's area is still
-        // in pair_contact where the contact continues.
-        const Double4 last_area = continues ? lanes_of([&](int k) { return pair_contact[q[k]].area; }) : zero;
-        const Double4 change = in.area - last_area;
-        const Mask4 grew = ~continues | (change > 0.0);
-        const Mask4 may_reverse = continues & (lane_abs(change) > SwingingContact::swing_floor * in.area);
-        // The overlap is convex and the chord joins two points of its boundary, so no point of it
-        // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts, over
-        // the pair's smaller inner radius (the grain's, against a wall).
-        const Mask4 has_chord = in.chord > 0.0;
-        Double4 depth = 2.0 * in.area / in.chord;
-        if (!(has_chord[0] & has_chord[1] & has_chord[2] & has_chord[3]))
-          depth = has_chord ? depth : lane_sqrt(in.area);
-        const Double4 inner = in.a_is_wall ? inner_b : lane_min(inner_a, inner_b);
-        const Double4 fraction = depth / inner;
+      // The swing (SwingingContact): does the area's change reverse that of the last step? A
+      // new contact's area grew from nothing (no reversal yet); the last step's area is still
+      // in pair_contact where the contact continues.
+      const Double4 last_area = continues ? lanes_of([&](int k) { return pair_contact[q[k]].area; }) : zero;
+      const Double4 change = in.area - last_area;
+      const Mask4 grew = ~continues | (change > 0.0);
+      const Mask4 may_reverse = continues & (lane_abs(change) > SwingingContact::swing_floor * in.area);
+      // The overlap is convex and the chord joins two points of its boundary, so no point of it
+      // lies farther than 2 A / chord from the chord: a bound on how deep the contact cuts, over
+      // the pair's smaller inner radius (the grain's, against a wall).
+      const Mask4 has_chord = in.chord > 0.0;
+      Double4 depth = 2.0 * in.area / in.chord;
+      if (!(has_chord[0] & has_chord[1] & has_chord[2] & has_chord[3]))
+        depth = has_chord ? depth : lane_sqrt(in.area);
+      const Double4 inner = in.a_is_wall ? inner_b : lane_min(inner_a, inner_b);
+      const Double4 fraction = depth / inner;
 
-        for (std::size_t lane = 0; lane < lanes; ++lane) {
-          const Overlap& o = overlaps[slot[lane]];
-          Contact& ct = pair_contact[q[lane]];
-          ct.a = a[lane];
-          ct.b = b[lane];
-          ct.spring = out.spring[lane];
-          ct.point = o.point;
-          ct.normal = o.normal;
-          ct.normal_force = out.normal[lane];
-          ct.tangential_force = out.tangential[lane];
-          ct.area = o.area;
-          ct.chord = o.chord;
-          const std::uint8_t grew_bit = grew[lane] ? 0x80 : 0, swing = pair_swing[q[lane]];
-          const bool reverses = may_reverse[lane] && grew_bit != (swing & 0x80);
-          const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
-          pair_swing[q[lane]] = static_cast<std::uint8_t>(grew_bit | swings);
-          step_longest_swing = std::max(step_longest_swing, swings);
-          end_load[pair_ends[2 * q[lane] + 1]] = {out.force_x[lane], out.force_y[lane], out.torque_b[lane]};
-          end_load[pair_ends[2 * q[lane]]] = {-out.force_x[lane], -out.force_y[lane], out.torque_a[lane]};
-          if (fraction[lane] > deepest || (fraction[lane] == deepest && body_key(q[lane]) < body_key(deepest_pair))) {
-            deepest = fraction[lane];
-            deepest_pair = q[lane];
-          }
+      for (std::size_t lane = 0; lane < 4; ++lane) {
+        if (!(store >> lane & 1)) continue;
+        Contact& ct = pair_contact[q[lane]];
+        ct.a = a[lane];
+        ct.b = b[lane];
+        ct.spring = out.spring[lane];
+        ct.point = Vec2(in.point_x[lane], in.point_y[lane]);
+        ct.normal = Vec2(in.normal_x[lane], in.normal_y[lane]);
+        ct.normal_force = out.normal[lane];
+        ct.tangential_force = out.tangential[lane];
+        ct.area = in.area[lane];
+        ct.chord = in.chord[lane];
+        const std::uint8_t grew_bit = grew[lane] ? 0x80 : 0, swing = pair_swing[q[lane]];
+        const bool reverses = may_reverse[lane] && grew_bit != (swing & 0x80);
+        const int swings = reverses ? std::min((swing & 0x7f) + 1, SwingingContact::longest_counted) : 0;
+        pair_swing[q[lane]] = static_cast<std::uint8_t>(grew_bit | swings);
+        step_longest_swing = std::max(step_longest_swing, swings);
+        end_load[pair_ends[2 * q[lane] + 1]] = {out.force_x[lane], out.force_y[lane], out.torque_b[lane]};
+        end_load[pair_ends[2 * q[lane]]] = {-out.force_x[lane], -out.force_y[lane], out.torque_a[lane]};
+        if (fraction[lane] > deepest || (fraction[lane] == deepest && body_key(q[lane]) < body_key(deepest_pair))) {
+          deepest = fraction[lane];
+          deepest_pair = q[lane];
         }
-        touching_pairs += lanes;
+        ++touching_pairs;
       }
     };
-    const std::size_t threads = static_cast<std::size_t>(thread_count()),
-                      thread = static_cast<std::size_t>(thread_number());
-    ChunkScratch& scratch = chunk_scratch[thread];
-    std::vector<Overlap>& overlaps = scratch.overlaps;
-    std::vector<std::uint8_t>&outcome = scratch.outcome, &touched = scratch.touched;
-    std::size_t *const open = scratch.open.data(), *const batch = scratch.batch.data(),
-                      *const touching = scratch.touching.data();
-    // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
-    // later (0 for the first thread); the last thread's run ends at the last chunk.
-    const auto run_start = [&](std::size_t t) {
-      return static_cast<std::size_t>(std::lower_bound(cost_end, cost_end + chunks, (cost_end[chunks] * t + threads - 1) / threads) - cost_end);
+
+    // The pairs whose hint is a corner of one polygon in an edge of the other, four at a time
+    // (two_crossing::corner_in_edge_lanes). The lanes the kernel proves touch go on in their
+    // registers to the contact law; the others, and any whose hint does not fit its shapes, are
+    // handed to unproven(q), for the scalar way. Returns how many it proved.
+    const auto corner_in_edge_contacts = [&](const std::size_t* pairs, std::size_t count, std::uint8_t* outcome, std::size_t first_pair,
+                                             auto&& unproven) __attribute__((always_inline)) -> std::size_t {
+      two_crossing::CornerInEdgeOverlaps out;
+      std::size_t proven_count = 0;
+      for (std::size_t first = 0; first < count; first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, count - first);
+        // Each lane's corner c with its neighbours p0 and p2, the edge e0 -> e1 and the centre of
+        // the edge's polygon; then each coordinate as one vector of the four lanes' values.
+        const Vec2 *p0[4], *c[4], *p2[4], *e0[4], *e1[4];
+        std::size_t q[4];
+        int centre[4];
+        double margin[4];
+        std::int64_t corner_of_b[4];
+        unsigned fits = 0;
+        for (std::size_t lane = 0; lane < 4; ++lane) {
+          q[lane] = pairs[first + std::min(lane, lanes - 1)];  // spare lanes repeat the last
+          const int a = static_cast<int>(pair_keys[q[lane]] >> 32), b = static_cast<int>(pair_keys[q[lane]] & 0xffffffffu);
+          const BodyGeometry& sa = geometry[a];
+          const BodyGeometry& sb = geometry[b];
+          const OverlapHint& hint = hints[q[lane]];
+          const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
+          // a's corner j after a's corner i, in b's edge k; or b's corner k after b's corner l, in
+          // a's edge i (two_crossing_overlap). Chosen without a branch: either is as likely.
+          const bool of_b = k != l;
+          corner_of_b[lane] = of_b ? -1 : 0;
+          const BodyGeometry& corner_body = of_b ? sb : sa;
+          const BodyGeometry& edge_body = of_b ? sa : sb;
+          const int before = of_b ? l : i, corner = of_b ? k : j, edge = of_b ? i : k;
+          // The hint's edges exist and make that shape (the others go the scalar way, which
+          // decides what they are); a lane that does not fit reads corner 0 of its bodies.
+          const bool fit = two_crossing::corner_in_edge_hint(hint, sa.corner_count, sb.corner_count);
+          fits |= unsigned(fit) << lane;
+          const int corner_count = corner_body.corner_count, edge_count = edge_body.corner_count;
+          const Vec2* const corners = world_vertices + corner_body.first_corner;
+          const Vec2* const edges = world_vertices + edge_body.first_corner;
+          p0[lane] = &corners[fit ? before : 0], c[lane] = &corners[fit ? corner : 0];
+          p2[lane] = &corners[fit ? two_crossing::next_index(corner, corner_count) : 0];
+          e0[lane] = &edges[fit ? edge : 0], e1[lane] = &edges[fit ? two_crossing::next_index(edge, edge_count) : 0];
+          centre[lane] = of_b ? a : b;
+          margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
+        }
+        two_crossing::CornerInEdgeBatch in;
+        in.p0x = lanes_of([&](int k) { return p0[k]->x(); }), in.p0y = lanes_of([&](int k) { return p0[k]->y(); });
+        in.cx = lanes_of([&](int k) { return c[k]->x(); }), in.cy = lanes_of([&](int k) { return c[k]->y(); });
+        in.p2x = lanes_of([&](int k) { return p2[k]->x(); }), in.p2y = lanes_of([&](int k) { return p2[k]->y(); });
+        in.e0x = lanes_of([&](int k) { return e0[k]->x(); }), in.e0y = lanes_of([&](int k) { return e0[k]->y(); });
+        in.e1x = lanes_of([&](int k) { return e1[k]->x(); }), in.e1y = lanes_of([&](int k) { return e1[k]->y(); });
+        in.qx = lanes_of([&](int k) { return x[3 * centre[k]]; }), in.qy = lanes_of([&](int k) { return x[3 * centre[k] + 1]; });
+        in.margin = lanes_of([&](int k) { return margin[k]; });
+        in.chord_reversed = Mask4{corner_of_b[0], corner_of_b[1], corner_of_b[2], corner_of_b[3]};
+        two_crossing::corner_in_edge_lanes(in, out);
+        unsigned proven = fits & ((1u << lanes) - 1);
+        for (std::size_t lane = 0; lane < lanes; ++lane)
+          if (!out.ok[lane]) proven &= ~(1u << lane);
+        for (std::size_t lane = 0; lane < lanes; ++lane) {
+          if (proven >> lane & 1)
+            outcome[q[lane] - first_pair] = 1;
+          else
+            unproven(q[lane]);
+        }
+        if (proven == 0) continue;
+        proven_count += static_cast<std::size_t>(__builtin_popcount(proven));
+        ContactLanes law_in;
+        law_in.area = out.area;
+        law_in.chord = out.chord;
+        law_in.point_x = out.point_x;
+        law_in.point_y = out.point_y;
+        law_in.normal_x = out.normal_x;
+        law_in.normal_y = out.normal_y;
+        apply_contact_law(q, proven, law_in);
+      }
+      return proven_count;
     };
-    const std::size_t run_end = thread + 1 == threads ? chunks : run_start(thread + 1);
-    for (std::size_t chunk = run_start(thread); chunk < run_end; ++chunk) {
+
+    const int thread = thread_number();
+    ChunkScratch& scratch = chunk_scratch[thread];
+    Overlap* const overlaps = scratch.overlaps.data();
+    std::uint8_t* const outcome = scratch.outcome.data();  // 1: touches
+    std::size_t *const by_corner = scratch.by_corner.data(), *const others = scratch.others.data(),
+                      *const touching = scratch.touching.data();
+    for (std::size_t chunk; chunk_runs.take(thread, chunk);) {
       const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
       // The chunk's pairs pass through filters, each writing the list of those that pass on
       // without a branch (every pair is written, the count advanced if it passes): the outcome
       // of each test is close to a coin's toss, which the processor would mispredict.
-      std::size_t open_count = 0, candidate_count = 0, proven_count = 0;  // open: candidates not proven apart
+      //
+      // A pair whose last step left a corner of one grain in an edge of the other (by its hint)
+      // goes to the four-lane kernel, the rest to the broad-phase test. A contact the kernel
+      // proves needs no such test: the corner lies in both grains, so their bounding circles
+      // meet, and a pair that touched is never proven apart.
+      std::size_t corner_count = 0, other_count = 0;
       for (std::size_t q = first; q < last; ++q) {
+        const OverlapHint& hint = hints[q];
+        const bool corner_in_edge = hint.kind == OverlapHint::crossing &&
+                                    ((hint.edge[1] == hint.edge[3]) != (hint.edge[0] == hint.edge[2]));
+        outcome[q - first] = 0;
+        by_corner[corner_count] = q;
+        corner_count += corner_in_edge;
+        others[other_count] = q;
+        other_count += !corner_in_edge;
+      }
+      const std::size_t proven_by_corner =
+          corner_in_edge_contacts(by_corner, corner_count, outcome, first, [&](std::size_t q) __attribute__((always_inline)) {
+            others[other_count++] = q;
+          });
+      // The rest: candidates not proven apart (open, compacted in place) to the scalar narrow
+      // phase, then the contact law of those that touch, four at a time.
+      std::size_t open_count = 0, candidate_count = 0, proven_count = 0;
+      for (std::size_t k = 0; k < other_count; ++k) {
+        const std::size_t q = others[k];
         const bool candidate = may_touch(q), proven = proven_apart_still(q);
-        outcome[q - first] = apart;
-        open[open_count] = q;
+        others[open_count] = q;
         open_count += candidate & !proven;
         candidate_count += candidate;
         proven_count += candidate & proven;
       }
-      candidates += candidate_count;
+      candidates += candidate_count + proven_by_corner;
       proven_apart += proven_count;
-      std::size_t deferred_count = 0;
-      for (std::size_t k = 0; k < open_count; ++k) {
-        const std::size_t q = open[k];
-        const Narrow result = narrow(q, overlaps[q - first]);
-        outcome[q - first] = result;
-        batch[deferred_count] = q;
-        deferred_count += result == deferred;
-      }
-      batched_corner_in_edge(batch, deferred_count, [&](std::size_t q, const Overlap* o) __attribute__((always_inline)) {
-        Overlap& slot = overlaps[q - first];
-        if (o)
-          slot = *o;
-        else if (!polygon_overlap(q, slot))
-          slot = Overlap{};
-        outcome[q - first] = slot.touching() ? overlap : apart;
-      });
       std::size_t touching_count = 0;
-      for (std::size_t q = first; q < last; ++q) {
-        const std::uint8_t was = pair_touching[q], is = outcome[q - first] == overlap;
-        touched[q - first] = was;
-        pair_touching[q] = is;
+      for (std::size_t k = 0; k < open_count; ++k) {
+        const std::size_t q = others[k];
+        const bool touches = narrow(q, overlaps[q - first]);
+        outcome[q - first] = touches;
         touching[touching_count] = q;
-        touching_count += is;
-        if (was > is)  // stopped touching: zero loads at its ends, which held some only if it touched
-          end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+        touching_count += touches;
       }
-      apply_contact_law(touching, touching_count, overlaps.data(), touched.data(), first);
+      for (std::size_t group = 0; group < touching_count; group += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, touching_count - group);
+        std::size_t q[4];
+        for (std::size_t lane = 0; lane < 4; ++lane) q[lane] = touching[group + std::min(lane, lanes - 1)];
+        ContactLanes in;
+        in.area = lanes_of([&](int k) { return overlaps[q[k] - first].area; });
+        in.chord = lanes_of([&](int k) { return overlaps[q[k] - first].chord; });
+        in.point_x = lanes_of([&](int k) { return overlaps[q[k] - first].point.x(); });
+        in.point_y = lanes_of([&](int k) { return overlaps[q[k] - first].point.y(); });
+        in.normal_x = lanes_of([&](int k) { return overlaps[q[k] - first].normal.x(); });
+        in.normal_y = lanes_of([&](int k) { return overlaps[q[k] - first].normal.y(); });
+        apply_contact_law(q, (1u << lanes) - 1, in);
+      }
+      // Each pair's touching flag for the next step; a pair that stopped touching has zero
+      // loads at its ends (it held some only while it touched).
+      for (std::size_t q = first; q < last; ++q) {
+        const std::uint8_t was = pair_touching[q], is = outcome[q - first];
+        pair_touching[q] = is;
+        if (was > is) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+      }
     }
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && body_key(deepest_pair) < body_key(step_deepest_pair))) {

@@ -24,6 +24,7 @@
 #include "dem/convex_overlap.h"
 #include "dem/integrator.h"
 #include "dem/shape.h"
+#include "dem/shared_runs.h"
 #include "dem/vec2.h"
 
 namespace pilelab::dem {
@@ -273,10 +274,15 @@ class World {
   // own, so that one thread's writes never share a line with another's.
   struct alignas(64) ChunkScratch {
     std::vector<Overlap> overlaps;
-    std::vector<std::uint8_t> outcome, touched;
-    std::vector<std::size_t> open, batch, touching;  // pairs still open, deferred to the batch, touching
+    std::vector<std::uint8_t> outcome;  // 1: the pair touches
+    // The pairs by the hint's corner in an edge, the others (then those still open), the touching.
+    std::vector<std::size_t> by_corner, others, touching;
   };
   std::vector<ChunkScratch> chunk_scratch_;  // one per thread
+  // The passes' items (chunks of pairs, blocks of grains) among the threads, and the first item
+  // of each thread's run.
+  SharedRuns shared_runs_;
+  std::vector<std::size_t> run_first_;
   std::vector<OverlapHint> pair_hint_;
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.

@@ -147,12 +147,13 @@ struct Triangle {
 }
 
 // The contact of a pile, spelt out: one corner c of polygon p lies in an edge e0 -> e1 of
-// polygon q, p's edges into and out of it (p0 -> c, c -> p2) crossing that edge at X_in and
-// X_out; the overlap is the triangle X_in, c, X_out. The same tests and operations as the
-// general case below, on the six sides it needs instead of eight (two are shared), without its
-// loops. Returns false where the general case would.
+// polygon q (corners q_corners[0..q_count)), p's edges into and out of it (p0 -> c, c -> p2)
+// crossing that edge at X_in and X_out; the overlap is the triangle X_in, c, X_out. The same
+// tests and operations as the general case below, on the six sides it needs instead of eight
+// (two are shared), without its loops. Returns false where the general case would.
 [[gnu::always_inline]] inline bool corner_in_edge(const Point& p0, const Point& c, const Point& p2, const Point& e0, const Point& e1,
-                    const Point& q_centroid, double margin2, Point& x_in, Point& x_out, double& a2) {
+                    const Point& q_centroid, const Vec2* q_corners, int q_count, double margin2, Point& x_in, Point& x_out,
+                    double& a2) {
   const double d0x = c.x - p0.x, d0y = c.y - p0.y, d2x = p2.x - c.x, d2y = p2.y - c.y;
   const double dex = e1.x - e0.x, dey = e1.y - e0.y;
   const double s0 = side_of(dex, dey, e0, p0), s1 = side_of(dex, dey, e0, c), s2 = side_of(dex, dey, e0, p2);
@@ -167,9 +168,10 @@ struct Triangle {
   const double r_in = s0 / (s0 - s1), r_out = s1 / (s1 - s2);
   x_in = {p0.x + r_in * d0x, p0.y + r_in * d0y};
   x_out = {c.x + r_out * d2x, c.y + r_out * d2y};
-  // The corner must lie in q: in the triangle of the chord and q's centroid, or inside every
-  // edge (tested by the caller, which has the polygon).
-  if (!clearly_in_triangle(x_out, x_in, q_centroid, c, margin2)) return false;
+  // The corner must lie in q: in the triangle of the chord and q's centroid (three sides), or
+  // else inside every edge (an oblique push near the end of a long edge).
+  if (!clearly_in_triangle(x_out, x_in, q_centroid, c, margin2) && !clearly_inside(c, q_corners, q_count, margin2))
+    return false;
   const double qx = c.x - x_in.x, qy = c.y - x_in.y, rx = x_out.x - x_in.x, ry = x_out.y - x_in.y;
   a2 = (0.0 * qy - 0.0 * qx) + (qx * ry - qy * rx);  // the shoelace about X_in, as the general case sums it
   return true;
@@ -270,12 +272,12 @@ struct Triangle {
   double a2 = 0.0;
   if (k == l && j == next_index(i, na)) {
     if (corner_in_edge(point_at(a, i), point_at(a, j), point_at(a, next_index(j, na)), point_at(b, k),
-                       point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, margin2, x1, x2, a2))
+                       point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, b, nb, margin2, x1, x2, a2))
       return two_crossing_result(x1, x2, a2, margin, o);
   } else if (i == j && k == next_index(l, nb)) {
     // b's corner k in a's edge i: b's edges l -> k and k -> k+1 cross it at X2 and X1.
     if (corner_in_edge(point_at(b, l), point_at(b, k), point_at(b, next_index(k, nb)), point_at(a, i),
-                       point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, margin2, x2, x1, a2))
+                       point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, a, na, margin2, x2, x1, a2))
       return two_crossing_result(x1, x2, a2, margin, o);
   } else if (j == next_index(i, na) && k == next_index(l, nb)) {
     if (corner_each(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin2, x1, x2, a2))
@@ -370,6 +372,10 @@ struct CornerInEdgeBatch {
 struct CornerInEdgeOverlaps {
   Double4 area, chord, point_x, point_y, normal_x, normal_y;
   Mask4 ok;
+  /// Every test passed but the corner's in the triangle of the chord and the centroid: the lane
+  /// is corner_in_edge's overlap if the corner lies clearly inside every edge of the edge's
+  /// polygon (clearly_inside, for the caller, which has the polygon).
+  Mask4 needs_polygon_test;
 };
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -401,9 +407,9 @@ struct CornerInEdgeOverlaps {
   const Double4 r_in = s0 / (s0 - s1), r_out = s1 / (s1 - s2);
   const Double4 inx = in.p0x + r_in * d0x, iny = in.p0y + r_in * d0y;
   const Double4 outx = in.cx + r_out * d2x, outy = in.cy + r_out * d2y;
-  ok &= clearly_left_of_edge(outx, outy, inx, iny, in.cx, in.cy, margin2) &
-        clearly_left_of_edge(inx, iny, in.qx, in.qy, in.cx, in.cy, margin2) &
-        clearly_left_of_edge(in.qx, in.qy, outx, outy, in.cx, in.cy, margin2);
+  const Mask4 in_triangle = clearly_left_of_edge(outx, outy, inx, iny, in.cx, in.cy, margin2) &
+                           clearly_left_of_edge(inx, iny, in.qx, in.qy, in.cx, in.cy, margin2) &
+                           clearly_left_of_edge(in.qx, in.qy, outx, outy, in.cx, in.cy, margin2);
   const Double4 qx = in.cx - inx, qy = in.cy - iny, rx = outx - inx, ry = outy - iny;
   const Double4 a2 = (0.0 * qy - 0.0 * qx) + (qx * ry - qy * rx);
   const Double4 area = 0.5 * a2;
@@ -414,7 +420,8 @@ struct CornerInEdgeOverlaps {
   const Double4 chord2 = lx * lx + ly * ly;
   const Double4 chord = lane_sqrt(chord2);
   ok &= chord > in.margin;
-  out.ok = ok;
+  out.ok = ok & in_triangle;
+  out.needs_polygon_test = ok & ~in_triangle;
   out.area = area;
   out.chord = chord;
   out.normal_x = ly / chord;

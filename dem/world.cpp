@@ -787,16 +787,17 @@ void World::collide_and_compute_forces() {
   // of the pile (the list follows the slots, which follow the place), the part whose corners it
   // placed and whose sums it will form: a body's data then stays in one core's cache, which
   // matters most where the two cores share no cache. The runs are cut at equal shares of the
-  // expected cost, a pair that touched at the last step counting as touching_pair_cost pairs.
+  // expected cost, a pair that touched at the last step counting as touching_pair_cost pairs
+  // (the chunk's count from the last step; after a new list, only an estimate).
   constexpr std::size_t touching_pair_cost = 4;
+  chunk_touching_.resize(chunks, 0);
   chunk_cost_end_.resize(chunks + 1);
   chunk_cost_end_[0] = 0;
   for (std::size_t c = 0; c < chunks; ++c) {
     const std::size_t first = c * pair_chunk, last = std::min(n, first + pair_chunk);
-    std::size_t touched_last_step = 0;
-    for (std::size_t q = first; q < last; ++q) touched_last_step += pair_touching[q];
-    chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * touched_last_step;
+    chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * chunk_touching_[c];
   }
+  std::uint32_t* const chunk_touching = chunk_touching_.data();
   // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
   // later (0 for the first thread); the last thread's run ends at the last chunk. A thread
   // that finishes its run early takes chunks from the end of another's (shared_runs.h).
@@ -815,7 +816,6 @@ void World::collide_and_compute_forces() {
     chunk_scratch_.resize(max_thread_count());
     for (ChunkScratch& c : chunk_scratch_) {
       c.overlaps.resize(pair_chunk);
-      c.outcome.resize(pair_chunk);
       c.by_corner.resize(pair_chunk);
       c.others.resize(pair_chunk);
       c.touching.resize(pair_chunk);
@@ -889,11 +889,18 @@ void World::collide_and_compute_forces() {
       return o.touching();
     };
 
+    // Each pair's touching flag ends the step as whether it touches now. A pair that stopped
+    // touching has zero loads at its ends (it held some only while it touched).
+    const auto no_contact = [&](std::size_t q) __attribute__((always_inline)) {
+      if (pair_touching[q]) {
+        pair_touching[q] = 0;
+        end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
+      }
+    };
     // The contact law of four touching pairs q[0..3] (contact_law_x4), whose overlaps the caller
     // has put in the lanes of `in`; the lanes whose bit is set in `store` are kept: the pair's
-    // contact, the loads at its two ends, its swing and the deepest overlap. Whether a pair
-    // continues the last step's contact (and its spring) is read from pair_touching, which the
-    // chunk updates only after every law of the chunk.
+    // contact, the loads at its two ends, its swing, its touching flag and the deepest overlap.
+    // Whether a pair continues the last step's contact (and its spring) is the flag's old value.
     const auto apply_contact_law = [&](const std::size_t* q, unsigned store, ContactLanes& in) __attribute__((always_inline)) {
       ContactLaneForces out;
       int a[4], b[4];
@@ -966,6 +973,7 @@ void World::collide_and_compute_forces() {
           deepest = fraction[lane];
           deepest_pair = q[lane];
         }
+        pair_touching[q[lane]] = 1;
         ++touching_pairs;
       }
     };
@@ -974,17 +982,16 @@ void World::collide_and_compute_forces() {
     // (two_crossing::corner_in_edge_lanes). The lanes the kernel proves touch go on in their
     // registers to the contact law; the others, and any whose hint does not fit its shapes, are
     // handed to unproven(q), for the scalar way. Returns how many it proved.
-    const auto corner_in_edge_contacts = [&](const std::size_t* pairs, std::size_t count, std::uint8_t* outcome, std::size_t first_pair,
-                                             auto&& unproven) __attribute__((always_inline)) -> std::size_t {
+    const auto corner_in_edge_contacts = [&](const std::size_t* pairs, std::size_t count, auto&& unproven) __attribute__((always_inline)) -> std::size_t {
       two_crossing::CornerInEdgeOverlaps out;
       std::size_t proven_count = 0;
       for (std::size_t first = 0; first < count; first += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, count - first);
         // Each lane's corner c with its neighbours p0 and p2, the edge e0 -> e1 and the centre of
         // the edge's polygon; then each coordinate as one vector of the four lanes' values.
-        const Vec2 *p0[4], *c[4], *p2[4], *e0[4], *e1[4];
+        const Vec2 *p0[4], *c[4], *p2[4], *e0[4], *e1[4], *edge_polygon[4];
         std::size_t q[4];
-        int centre[4];
+        int centre[4], edge_polygon_count[4];
         double margin[4];
         std::int64_t corner_of_b[4];
         unsigned fits = 0;
@@ -1012,6 +1019,7 @@ void World::collide_and_compute_forces() {
           p0[lane] = &corners[fit ? before : 0], c[lane] = &corners[fit ? corner : 0];
           p2[lane] = &corners[fit ? two_crossing::next_index(corner, corner_count) : 0];
           e0[lane] = &edges[fit ? edge : 0], e1[lane] = &edges[fit ? two_crossing::next_index(edge, edge_count) : 0];
+          edge_polygon[lane] = edges, edge_polygon_count[lane] = edge_count;
           centre[lane] = of_b ? a : b;
           margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
         }
@@ -1025,15 +1033,17 @@ void World::collide_and_compute_forces() {
         in.margin = lanes_of([&](int k) { return margin[k]; });
         in.chord_reversed = Mask4{corner_of_b[0], corner_of_b[1], corner_of_b[2], corner_of_b[3]};
         two_crossing::corner_in_edge_lanes(in, out);
-        unsigned proven = fits & ((1u << lanes) - 1);
-        for (std::size_t lane = 0; lane < lanes; ++lane)
-          if (!out.ok[lane]) proven &= ~(1u << lane);
+        unsigned proven = 0;
         for (std::size_t lane = 0; lane < lanes; ++lane) {
-          if (proven >> lane & 1)
-            outcome[q[lane] - first_pair] = 1;
-          else
-            unproven(q[lane]);
+          bool ok = out.ok[lane];
+          if (out.needs_polygon_test[lane] && (fits >> lane & 1))  // an oblique push: is the corner inside every edge?
+            ok = two_crossing::clearly_inside({c[lane]->x(), c[lane]->y()}, edge_polygon[lane], edge_polygon_count[lane],
+                                              margin[lane] * margin[lane]);
+          proven |= unsigned(ok) << lane;
         }
+        proven &= fits;
+        for (std::size_t lane = 0; lane < lanes; ++lane)
+          if (!(proven >> lane & 1)) unproven(q[lane]);
         if (proven == 0) continue;
         proven_count += static_cast<std::size_t>(__builtin_popcount(proven));
         ContactLanes law_in;
@@ -1051,7 +1061,6 @@ void World::collide_and_compute_forces() {
     const int thread = thread_number();
     ChunkScratch& scratch = chunk_scratch[thread];
     Overlap* const overlaps = scratch.overlaps.data();
-    std::uint8_t* const outcome = scratch.outcome.data();  // 1: touches
     std::size_t *const by_corner = scratch.by_corner.data(), *const others = scratch.others.data(),
                       *const touching = scratch.touching.data();
     for (std::size_t chunk; chunk_runs.take(thread, chunk);) {
@@ -1069,14 +1078,13 @@ void World::collide_and_compute_forces() {
         const OverlapHint& hint = hints[q];
         const bool corner_in_edge = hint.kind == OverlapHint::crossing &&
                                     ((hint.edge[1] == hint.edge[3]) != (hint.edge[0] == hint.edge[2]));
-        outcome[q - first] = 0;
         by_corner[corner_count] = q;
         corner_count += corner_in_edge;
         others[other_count] = q;
         other_count += !corner_in_edge;
       }
       const std::size_t proven_by_corner =
-          corner_in_edge_contacts(by_corner, corner_count, outcome, first, [&](std::size_t q) __attribute__((always_inline)) {
+          corner_in_edge_contacts(by_corner, corner_count, [&](std::size_t q) __attribute__((always_inline)) {
             others[other_count++] = q;
           });
       // The rest: candidates not proven apart (open, compacted in place) to the scalar narrow
@@ -1084,9 +1092,10 @@ void World::collide_and_compute_forces() {
       std::size_t open_count = 0, candidate_count = 0, proven_count = 0;
       for (std::size_t k = 0; k < other_count; ++k) {
         const std::size_t q = others[k];
-        const bool candidate = may_touch(q), proven = proven_apart_still(q);
+        const bool candidate = may_touch(q), proven = proven_apart_still(q), open = candidate & !proven;
+        if (!open) no_contact(q);  // rare for a pair that touched: a foreseeable branch
         others[open_count] = q;
-        open_count += candidate & !proven;
+        open_count += open;
         candidate_count += candidate;
         proven_count += candidate & proven;
       }
@@ -1096,10 +1105,11 @@ void World::collide_and_compute_forces() {
       for (std::size_t k = 0; k < open_count; ++k) {
         const std::size_t q = others[k];
         const bool touches = narrow(q, overlaps[q - first]);
-        outcome[q - first] = touches;
+        if (!touches) no_contact(q);
         touching[touching_count] = q;
         touching_count += touches;
       }
+      chunk_touching[chunk] = static_cast<std::uint32_t>(proven_by_corner + touching_count);
       for (std::size_t group = 0; group < touching_count; group += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, touching_count - group);
         std::size_t q[4];
@@ -1112,13 +1122,6 @@ void World::collide_and_compute_forces() {
         in.normal_x = lanes_of([&](int k) { return overlaps[q[k] - first].normal.x(); });
         in.normal_y = lanes_of([&](int k) { return overlaps[q[k] - first].normal.y(); });
         apply_contact_law(q, (1u << lanes) - 1, in);
-      }
-      // Each pair's touching flag for the next step; a pair that stopped touching has zero
-      // loads at its ends (it held some only while it touched).
-      for (std::size_t q = first; q < last; ++q) {
-        const std::uint8_t was = pair_touching[q], is = outcome[q - first];
-        pair_touching[q] = is;
-        if (was > is) end_load[pair_ends[2 * q]] = end_load[pair_ends[2 * q + 1]] = {0.0, 0.0, 0.0};
       }
     }
 #pragma omp critical

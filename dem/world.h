@@ -270,11 +270,11 @@ class World {
   // how many steps in a row its change reversed.
   std::vector<std::uint8_t> pair_swing_;
   std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
+  std::vector<std::uint32_t> chunk_touching_;  // each chunk's touching pairs at the last step
   // What a thread of the pair loop works in, one chunk of pairs at a time; on cache lines of its
   // own, so that one thread's writes never share a line with another's.
   struct alignas(64) ChunkScratch {
     std::vector<Overlap> overlaps;
-    std::vector<std::uint8_t> outcome;  // 1: the pair touches
     // The pairs by the hint's corner in an edge, the others (then those still open), the touching.
     std::vector<std::size_t> by_corner, others, touching;
   };

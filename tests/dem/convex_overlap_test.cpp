@@ -1275,3 +1275,87 @@ TEST(ConvexOverlap, BatchedCornerInEdgeMatchesTheScalarPathBitForBit) {
 
 }  // namespace
 }  // namespace pilelab::dem
+
+namespace pilelab::dem {
+namespace {
+
+// A corner pushed obliquely into a long edge near its end lies outside the triangle of the
+// chord and the other polygon's centroid, the kernel's quick proof that it is inside: the
+// kernel then asks its caller for the test against every edge (needs_polygon_test), and with
+// that answer gives the scalar path's overlap bit for bit. An elongated hexagon (axes 3:1)
+// receives a regular one's corner at a random place along its long edge, tilted by up to 30
+// degrees, either polygon first.
+TEST(ConvexOverlap, BatchedCornerInEdgeNearTheEndOfALongEdgeMatchesTheScalarPath) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double r = 3e-3;
+  const auto hexagon = [](Vec2 centre, double ax, double ay, double angle) {
+    std::vector<Vec2> corners;
+    const Vec2 u(std::cos(angle), std::sin(angle)), v(-std::sin(angle), std::cos(angle));
+    for (int k = 0; k < 6; ++k)
+      corners.push_back(centre + ax * std::cos(k * M_PI / 3) * u + ay * std::sin(k * M_PI / 3) * v);
+    return corners;
+  };
+  int cases = 0, by_polygon = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    // q's long top edge joins its corners 1 and 2, at y = ay sin 60 deg; a point on it from
+    // 0 to 95 % of the way to its ends, and p's corner 0 pointing down into it, tilted.
+    const Vec2 cq(0.2 + 0.1 * uniform(random), 0.2 + 0.1 * uniform(random));
+    const double ax = 3 * r, ay = r, edge_y = ay * std::sin(M_PI / 3), half_length = ax * std::cos(M_PI / 3);
+    const double along = (2 * uniform(random) - 1) * 0.95 * half_length, depth = 2e-6 + 3e-5 * uniform(random);
+    const double tilt = (2 * uniform(random) - 1) * M_PI / 6;
+    const Vec2 down(std::sin(tilt), -std::cos(tilt));  // p's corner 0 points along this
+    const Vec2 tip = cq + Vec2(along, edge_y - depth);
+    const Vec2 cp = tip - r * down;
+    const auto q = hexagon(cq, ax, ay, 0.0);
+    const auto p = hexagon(cp, r, r, std::atan2(down.y(), down.x()));
+    const bool swap = trial % 2 == 1;  // half the cases: the corner is the second polygon's
+    const auto& a = swap ? q : p;
+    const auto& b = swap ? p : q;
+    const Vec2 ca = swap ? cq : cp, cb = swap ? cp : cq;
+    const double longest = 2 * half_length;
+    OverlapHint hint;
+    overlap_polygons(a.data(), 6, ca, b.data(), 6, cb, longest, hint);  // finds the edges
+    const Overlap scalar = overlap_polygons(a.data(), 6, ca, b.data(), 6, cb, longest, hint);
+    if (hint.kind != OverlapHint::crossing) continue;
+    const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
+    const bool corner_of_a = k == l && j == (i + 1) % 6, corner_of_b = i == j && k == (l + 1) % 6;
+    if (!corner_of_a && !corner_of_b) continue;
+    ++cases;
+    const auto& corner_polygon = corner_of_a ? a : b;
+    const auto& edge_polygon = corner_of_a ? b : a;
+    const int before = corner_of_a ? i : l, corner = corner_of_a ? j : k, edge = corner_of_a ? k : i;
+    const Vec2 centre = corner_of_a ? cb : ca;
+    two_crossing::CornerInEdgeBatch in;
+    for (int lane = 0; lane < 4; ++lane) {
+      in.p0x[lane] = corner_polygon[before].x(), in.p0y[lane] = corner_polygon[before].y();
+      in.cx[lane] = corner_polygon[corner].x(), in.cy[lane] = corner_polygon[corner].y();
+      in.p2x[lane] = corner_polygon[(corner + 1) % 6].x(), in.p2y[lane] = corner_polygon[(corner + 1) % 6].y();
+      in.e0x[lane] = edge_polygon[edge].x(), in.e0y[lane] = edge_polygon[edge].y();
+      in.e1x[lane] = edge_polygon[(edge + 1) % 6].x(), in.e1y[lane] = edge_polygon[(edge + 1) % 6].y();
+      in.qx[lane] = centre.x(), in.qy[lane] = centre.y();
+      in.margin[lane] = two_crossing::clear_margin * longest;
+      in.chord_reversed[lane] = corner_of_b ? -1 : 0;
+    }
+    two_crossing::CornerInEdgeOverlaps out;
+    two_crossing::corner_in_edge_x4(in, out);
+    const double margin = two_crossing::clear_margin * longest;
+    const bool inside = two_crossing::clearly_inside({corner_polygon[corner].x(), corner_polygon[corner].y()},
+                                                     edge_polygon.data(), 6, margin * margin);
+    ASSERT_FALSE(out.ok[0] && out.needs_polygon_test[0]) << "trial " << trial;
+    by_polygon += out.needs_polygon_test[0] != 0;
+    ASSERT_TRUE(out.ok[0] || (out.needs_polygon_test[0] && inside)) << "trial " << trial << ": a shallow contact refused";
+    const double batch[6] = {out.area[0], out.chord[0], out.point_x[0], out.point_y[0], out.normal_x[0], out.normal_y[0]};
+    const double reference[6] = {scalar.area, scalar.chord, scalar.point.x(), scalar.point.y(), scalar.normal.x(),
+                                 scalar.normal.y()};
+    for (int m = 0; m < 6; ++m)
+      ASSERT_EQ(std::memcmp(&batch[m], &reference[m], sizeof(double)), 0)
+          << "trial " << trial << " value " << m << ": " << batch[m] << " against " << reference[m];
+  }
+  // Most trials are corner-in-edge contacts, and a fair share of them needs the polygon test.
+  EXPECT_GT(cases, 3000);
+  EXPECT_GT(by_polygon, 200);
+}
+
+}  // namespace
+}  // namespace pilelab::dem

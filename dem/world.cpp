@@ -798,19 +798,7 @@ void World::collide_and_compute_forces() {
     chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * chunk_touching_[c];
   }
   std::uint32_t* const chunk_touching = chunk_touching_.data();
-  // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
-  // later (0 for the first thread); the last thread's run ends at the last chunk. A thread
-  // that finishes its run early takes chunks from the end of another's (shared_runs.h).
-  const bool parallel = n >= static_cast<std::size_t>(parallel_threshold);
-  const std::size_t threads = parallel ? static_cast<std::size_t>(max_thread_count()) : 1;
-  run_first_.resize(threads + 1);
-  for (std::size_t t = 0; t < threads; ++t)
-    run_first_[t] = static_cast<std::size_t>(
-        std::lower_bound(chunk_cost_end_.begin(), chunk_cost_end_.begin() + chunks, (chunk_cost_end_[chunks] * t + threads - 1) / threads) -
-        chunk_cost_end_.begin());
-  run_first_[threads] = chunks;
-  SharedRuns& chunk_runs = shared_runs_;
-  chunk_runs.assign(run_first_.data(), static_cast<int>(threads));
+  const std::size_t* const cost_end = chunk_cost_end_.data();
   // Each thread's working arrays for a chunk, kept from step to step: no allocation in the step.
   if (chunk_scratch_.size() < static_cast<std::size_t>(max_thread_count())) {
     chunk_scratch_.resize(max_thread_count());
@@ -825,7 +813,7 @@ void World::collide_and_compute_forces() {
 
   // Each listed pair is independent: test it, collide it and evaluate the contact law in place,
   // reading the spring it carried from the last step.
-#pragma omp parallel if (parallel) reduction(+ : candidates, touching_pairs, proven_apart) \
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold)) reduction(+ : candidates, touching_pairs, proven_apart) \
     reduction(max : step_longest_swing)
   {
     double deepest = 0.0;
@@ -1058,12 +1046,19 @@ void World::collide_and_compute_forces() {
       return proven_count;
     };
 
-    const int thread = thread_number();
+    const std::size_t threads = static_cast<std::size_t>(thread_count()),
+                      thread = static_cast<std::size_t>(thread_number());
     ChunkScratch& scratch = chunk_scratch[thread];
     Overlap* const overlaps = scratch.overlaps.data();
     std::size_t *const by_corner = scratch.by_corner.data(), *const others = scratch.others.data(),
                       *const touching = scratch.touching.data();
-    for (std::size_t chunk; chunk_runs.take(thread, chunk);) {
+    // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
+    // later (0 for the first thread); the last thread's run ends at the last chunk.
+    const auto run_start = [&](std::size_t t) {
+      return static_cast<std::size_t>(std::lower_bound(cost_end, cost_end + chunks, (cost_end[chunks] * t + threads - 1) / threads) - cost_end);
+    };
+    const std::size_t run_end = thread + 1 == threads ? chunks : run_start(thread + 1);
+    for (std::size_t chunk = run_start(thread); chunk < run_end; ++chunk) {
       const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
       // The chunk's pairs pass through filters, each writing the list of those that pass on
       // without a branch (every pair is written, the count advanced if it passes): the outcome

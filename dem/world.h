@@ -24,7 +24,6 @@
 #include "dem/convex_overlap.h"
 #include "dem/integrator.h"
 #include "dem/shape.h"
-#include "dem/shared_runs.h"
 #include "dem/vec2.h"
 
 namespace pilelab::dem {
@@ -279,10 +278,6 @@ class World {
     std::vector<std::size_t> by_corner, others, touching;
   };
   std::vector<ChunkScratch> chunk_scratch_;  // one per thread
-  // The passes' items (chunks of pairs, blocks of grains) among the threads, and the first item
-  // of each thread's run.
-  SharedRuns shared_runs_;
-  std::vector<std::size_t> run_first_;
   std::vector<OverlapHint> pair_hint_;
   // A polygon pair is proven apart while displacement_[a] + displacement_[b] stays below this
   // [m]; 0: not proven. Valid until the list is built again.

@@ -1203,6 +1203,27 @@ TEST(DiscPolygonOverlap, RandomPairsLieBetweenInscribedAndCircumscribedPolygons)
 namespace pilelab::dem {
 namespace {
 
+// The kernel's four lanes, each the same contact: corner `corner` of corner_polygon (after
+// corner `before`) in edge `edge` of edge_polygon, whose centroid is centre; chord_reversed for
+// a corner of the pair's second polygon.
+two_crossing::CornerInEdgeBatch same_contact_in_every_lane(const std::vector<Vec2>& corner_polygon, int before, int corner,
+                                                           const std::vector<Vec2>& edge_polygon, int edge, const Vec2& centre,
+                                                           double margin, bool chord_reversed) {
+  const int nc = static_cast<int>(corner_polygon.size()), ne = static_cast<int>(edge_polygon.size());
+  two_crossing::CornerInEdgeBatch in;
+  for (int lane = 0; lane < 4; ++lane) {
+    in.p0x[lane] = corner_polygon[before].x(), in.p0y[lane] = corner_polygon[before].y();
+    in.cx[lane] = corner_polygon[corner].x(), in.cy[lane] = corner_polygon[corner].y();
+    in.p2x[lane] = corner_polygon[(corner + 1) % nc].x(), in.p2y[lane] = corner_polygon[(corner + 1) % nc].y();
+    in.e0x[lane] = edge_polygon[edge].x(), in.e0y[lane] = edge_polygon[edge].y();
+    in.e1x[lane] = edge_polygon[(edge + 1) % ne].x(), in.e1y[lane] = edge_polygon[(edge + 1) % ne].y();
+    in.qx[lane] = centre.x(), in.qy[lane] = centre.y();
+    in.margin[lane] = margin;
+    in.chord_reversed[lane] = chord_reversed ? -1 : 0;
+  }
+  return in;
+}
+
 // The batched corner-in-edge kernel gives the scalar fast path's overlap bit for bit wherever it
 // accepts a lane, and accepts the shallow contacts a pile is made of: two hexagons with a
 // corner of one pushed into an edge of the other (either polygon's corner, either lane order).
@@ -1239,21 +1260,11 @@ TEST(ConvexOverlap, BatchedCornerInEdgeMatchesTheScalarPathBitForBit) {
     const bool corner_of_p = k == l && j == (i + 1) % 6, corner_of_q = i == j && k == (l + 1) % 6;
     if (!corner_of_p && !corner_of_q) continue;
     ++cases;
-    two_crossing::CornerInEdgeBatch in;
     const auto& corner_polygon = corner_of_p ? p : q;
     const auto& edge_polygon = corner_of_p ? q : p;
     const int before = corner_of_p ? i : l, corner = corner_of_p ? j : k, edge = corner_of_p ? k : i;
-    const Vec2 centre = corner_of_p ? cq : cp;
-    for (int lane = 0; lane < 4; ++lane) {
-      in.p0x[lane] = corner_polygon[before].x(), in.p0y[lane] = corner_polygon[before].y();
-      in.cx[lane] = corner_polygon[corner].x(), in.cy[lane] = corner_polygon[corner].y();
-      in.p2x[lane] = corner_polygon[(corner + 1) % 6].x(), in.p2y[lane] = corner_polygon[(corner + 1) % 6].y();
-      in.e0x[lane] = edge_polygon[edge].x(), in.e0y[lane] = edge_polygon[edge].y();
-      in.e1x[lane] = edge_polygon[(edge + 1) % 6].x(), in.e1y[lane] = edge_polygon[(edge + 1) % 6].y();
-      in.qx[lane] = centre.x(), in.qy[lane] = centre.y();
-      in.margin[lane] = two_crossing::clear_margin * radius;
-      in.chord_reversed[lane] = corner_of_q ? -1 : 0;
-    }
+    const two_crossing::CornerInEdgeBatch in = same_contact_in_every_lane(
+        corner_polygon, before, corner, edge_polygon, edge, corner_of_p ? cq : cp, two_crossing::clear_margin * radius, corner_of_q);
     two_crossing::CornerInEdgeOverlaps out;
     two_crossing::corner_in_edge_x4(in, out);
     for (int lane = 0; lane < 4; ++lane) {
@@ -1325,21 +1336,11 @@ TEST(ConvexOverlap, BatchedCornerInEdgeNearTheEndOfALongEdgeMatchesTheScalarPath
     const auto& corner_polygon = corner_of_a ? a : b;
     const auto& edge_polygon = corner_of_a ? b : a;
     const int before = corner_of_a ? i : l, corner = corner_of_a ? j : k, edge = corner_of_a ? k : i;
-    const Vec2 centre = corner_of_a ? cb : ca;
-    two_crossing::CornerInEdgeBatch in;
-    for (int lane = 0; lane < 4; ++lane) {
-      in.p0x[lane] = corner_polygon[before].x(), in.p0y[lane] = corner_polygon[before].y();
-      in.cx[lane] = corner_polygon[corner].x(), in.cy[lane] = corner_polygon[corner].y();
-      in.p2x[lane] = corner_polygon[(corner + 1) % 6].x(), in.p2y[lane] = corner_polygon[(corner + 1) % 6].y();
-      in.e0x[lane] = edge_polygon[edge].x(), in.e0y[lane] = edge_polygon[edge].y();
-      in.e1x[lane] = edge_polygon[(edge + 1) % 6].x(), in.e1y[lane] = edge_polygon[(edge + 1) % 6].y();
-      in.qx[lane] = centre.x(), in.qy[lane] = centre.y();
-      in.margin[lane] = two_crossing::clear_margin * longest;
-      in.chord_reversed[lane] = corner_of_b ? -1 : 0;
-    }
+    const double margin = two_crossing::clear_margin * longest;
+    const two_crossing::CornerInEdgeBatch in = same_contact_in_every_lane(corner_polygon, before, corner, edge_polygon, edge,
+                                                                          corner_of_a ? cb : ca, margin, corner_of_b);
     two_crossing::CornerInEdgeOverlaps out;
     two_crossing::corner_in_edge_x4(in, out);
-    const double margin = two_crossing::clear_margin * longest;
     const bool inside = two_crossing::clearly_inside({corner_polygon[corner].x(), corner_polygon[corner].y()},
                                                      edge_polygon.data(), 6, margin * margin);
     ASSERT_FALSE(out.ok[0] && out.needs_polygon_test[0]) << "trial " << trial;

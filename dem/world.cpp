@@ -63,6 +63,15 @@ int max_thread_count() {
 #endif
 }
 
+// v resized to n; when it must grow, with room for an eighth more, so that an array whose
+// length wanders around one size (the pair list's) stops allocating: a fresh page costs a fault,
+// which on a virtual machine can take as long as a thousand pairs' work.
+template <class T>
+void resize_with_room(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity()) v.reserve(n + n / 8);
+  v.resize(n);
+}
+
 }  // namespace
 
 World::World(const WorldSettings& settings) : settings_(settings) {}
@@ -521,20 +530,24 @@ void World::build_neighbour_list() {
     order_bodies_by_place();
     next_ordering_step_ = steps_ + ordering_interval_steps;
   }
-  std::vector<std::uint64_t> old_neighbours;
+  std::vector<std::uint64_t>& old_neighbours = list_scratch_.old_neighbours;
   old_neighbours.swap(neighbours_);
+  neighbours_.clear();
   neighbours_stale_ = false;
   ++neighbour_builds_;
   const double rest_margin = 0.5 * settings_.neighbour_skin_fraction * max_grain_radius_;
   const double lookahead = settings_.neighbour_lookahead_steps * settings_.time_step;
-  listed_position_.resize(body_count());
-  listed_margin_.resize(body_count());
-  listed_angle_.resize(body_count());
-  displacement_.assign(body_count(), 0.0);
-  for (int i = 0; i < body_count(); ++i) {
+  const int n = body_count();
+  listed_position_.resize(n);
+  listed_margin_.resize(n);
+  listed_angle_.resize(n);
+  displacement_.resize(n);
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+  for (int i = 0; i < n; ++i) {
     listed_position_[i] = slot_position(i);
     listed_angle_[i] = motion_.d[0][3 * i + 2];
     listed_margin_[i] = is_wall(i) && slot_velocity(i).squaredNorm() == 0.0 ? 0.0 : rest_margin + slot_velocity(i).norm() * lookahead;
+    displacement_[i] = 0.0;
   }
 
   // Walls against grains: bounding box of the wall, widened by both margins. Walls have the
@@ -607,10 +620,14 @@ void World::list_grain_pairs(double rest_margin) {
   };
 
   const int n_active = static_cast<int>(active_slots_.size());
+  std::vector<ThreadPairs>& thread_pairs = list_scratch_.thread_pairs;
+  if (thread_pairs.size() < static_cast<std::size_t>(max_thread_count())) thread_pairs.resize(max_thread_count());
+  const std::size_t wall_pairs = neighbours_.size();
 #pragma omp parallel if (n_active >= parallel_threshold)
   {
-    std::vector<std::uint64_t> local;
     const int nt = thread_count(), t = thread_number();
+    std::vector<std::uint64_t>& local = thread_pairs[t].keys;
+    local.clear();
     const int begin = static_cast<int>(static_cast<long long>(n_active) * t / nt);
     const int end = static_cast<int>(static_cast<long long>(n_active) * (t + 1) / nt);
     for (int idx = begin; idx < end; ++idx) {
@@ -623,11 +640,17 @@ void World::list_grain_pairs(double rest_margin) {
       });
       std::sort(local.begin() + first, local.end());
     }
-#pragma omp for ordered schedule(static, 1)
-    for (int k = 0; k < nt; ++k) {
-#pragma omp ordered
-      neighbours_.insert(neighbours_.end(), local.begin(), local.end());
+    // The threads' lists one after the other, each copied by its thread.
+#pragma omp barrier
+#pragma omp single
+    {
+      std::size_t total = wall_pairs;
+      for (int k = 0; k < nt; ++k) total += thread_pairs[k].keys.size();
+      resize_with_room(neighbours_, total);
     }
+    std::size_t offset = wall_pairs;
+    for (int k = 0; k < t; ++k) offset += thread_pairs[k].keys.size();
+    std::copy(local.begin(), local.end(), neighbours_.begin() + static_cast<std::ptrdiff_t>(offset));
   }
 
   // Pairs with a far-reaching grain, found from its side (from the lower slot if both are).
@@ -645,9 +668,10 @@ void World::list_grain_pairs(double rest_margin) {
   const std::size_t grain_pairs_begin = static_cast<std::size_t>(
       std::find_if(neighbours_.begin(), neighbours_.end(), [this](std::uint64_t key) { return !is_wall(static_cast<int>(key >> 32)); }) -
       neighbours_.begin());
-  std::vector<std::uint64_t> merged(neighbours_.begin(), neighbours_.begin() + grain_pairs_begin);
-  merged.reserve(neighbours_.size() + far.size());
-  std::merge(neighbours_.begin() + grain_pairs_begin, neighbours_.end(), far.begin(), far.end(), std::back_inserter(merged));
+  std::vector<std::uint64_t>& merged = list_scratch_.merged;
+  resize_with_room(merged, neighbours_.size() + far.size());
+  const auto grain_pairs = neighbours_.begin() + static_cast<std::ptrdiff_t>(grain_pairs_begin);
+  std::merge(grain_pairs, neighbours_.end(), far.begin(), far.end(), std::copy(neighbours_.begin(), grain_pairs, merged.begin()));
   neighbours_.swap(merged);
 }
 
@@ -656,12 +680,24 @@ void World::list_grain_pairs(double rest_margin) {
 // place of the old list once.
 void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours) {
   const std::size_t n = neighbours_.size();
-  std::vector<std::size_t> earlier(n, no_pair);
-  if (restored_contacts_.empty()) {
-    std::size_t r = 0;
-    for (std::size_t q = 0; q < n; ++q) {
-      while (r < old_neighbours.size() && old_neighbours[r] < neighbours_[q]) ++r;
-      if (r < old_neighbours.size() && old_neighbours[r] == neighbours_[q]) earlier[q] = r;
+  std::vector<std::size_t>& earlier = list_scratch_.earlier;
+  resize_with_room(earlier, n);
+  if (!restored_contacts_.empty()) {
+    std::fill(earlier.begin(), earlier.end(), no_pair);
+  } else {
+    // Both lists are sorted: each thread merges its part of the new list, from where its first
+    // key stands in the old.
+    const std::uint64_t *const fresh = neighbours_.data(), *const old_begin = old_neighbours.data(),
+                               *const old_end = old_begin + old_neighbours.size();
+#pragma omp parallel if (n >= static_cast<std::size_t>(parallel_threshold))
+    {
+      const std::size_t threads = static_cast<std::size_t>(thread_count()), thread = static_cast<std::size_t>(thread_number());
+      const std::size_t begin = n * thread / threads, end = n * (thread + 1) / threads;
+      const std::uint64_t* r = begin < end ? std::lower_bound(old_begin, old_end, fresh[begin]) : old_end;
+      for (std::size_t q = begin; q < end; ++q) {
+        while (r < old_end && *r < fresh[q]) ++r;
+        earlier[q] = r < old_end && *r == fresh[q] ? static_cast<std::size_t>(r - old_begin) : no_pair;
+      }
     }
   }
   reorder_pair_data(earlier);
@@ -690,58 +726,73 @@ void World::carry_pair_history(const std::vector<std::uint64_t>& old_neighbours)
 // touched, the narrow phase's hint and proof), for the list in a new order: pair q takes what
 // pair earlier[q] carried, or nothing where earlier[q] is no_pair.
 void World::reorder_pair_data(const std::vector<std::size_t>& earlier) {
-  const std::size_t n = earlier.size();
-  std::vector<Contact> contact(n);
-  std::vector<std::uint8_t> touching(n, 0), swing(n, 0);
-  std::vector<OverlapHint> hint(n);
-  std::vector<double> apart_until(n, 0.0);
-  for (std::size_t q = 0; q < n; ++q) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(earlier.size());
+  ListBuildScratch& next = list_scratch_;
+  resize_with_room(next.contact, n);
+  resize_with_room(next.touching, n);
+  resize_with_room(next.swing, n);
+  resize_with_room(next.hint, n);
+  resize_with_room(next.apart_until, n);
+#pragma omp parallel for schedule(static) if (n >= parallel_threshold)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
     const std::size_t old = earlier[q];
-    if (old == no_pair) continue;
-    contact[q] = pair_contact_[old];
-    touching[q] = pair_touching_[old];
-    swing[q] = pair_swing_[old];
-    hint[q] = pair_hint_[old];
-    apart_until[q] = pair_apart_until_[old];
+    const bool carried = old != no_pair;
+    next.contact[q] = carried ? pair_contact_[old] : Contact{};
+    next.touching[q] = carried ? pair_touching_[old] : 0;
+    next.swing[q] = carried ? pair_swing_[old] : 0;
+    next.hint[q] = carried ? pair_hint_[old] : OverlapHint{};
+    next.apart_until[q] = carried ? pair_apart_until_[old] : 0.0;
   }
-  pair_contact_.swap(contact);
-  pair_touching_.swap(touching);
-  pair_swing_.swap(swing);
-  pair_hint_.swap(hint);
-  pair_apart_until_.swap(apart_until);
+  pair_contact_.swap(next.contact);
+  pair_touching_.swap(next.touching);
+  pair_swing_.swap(next.swing);
+  pair_hint_.swap(next.hint);
+  pair_apart_until_.swap(next.apart_until);
 }
 
 // Each body's pairs in the order of their other body's index: the order in which a serial loop
 // over the pairs sorted by body index would add their forces to it, whatever the slots.
 void World::index_pairs_by_body() {
-  body_pair_start_.assign(body_count() + 1, 0);
+  const int bodies = body_count();
+  const std::ptrdiff_t entries = 2 * static_cast<std::ptrdiff_t>(neighbours_.size());
+  body_pair_start_.assign(bodies + 1, 0);
   for (std::uint64_t key : neighbours_) {
     ++body_pair_start_[static_cast<int>(key >> 32) + 1];
     ++body_pair_start_[static_cast<int>(key & 0xffffffffu) + 1];
   }
-  for (int i = 0; i < body_count(); ++i) body_pair_start_[i + 1] += body_pair_start_[i];
-  body_pairs_.resize(2 * neighbours_.size());
-  pair_ends_.resize(2 * neighbours_.size());
-  std::vector<int> fill(body_pair_start_.begin(), body_pair_start_.end() - 1);
+  for (int i = 0; i < bodies; ++i) body_pair_start_[i + 1] += body_pair_start_[i];
+  resize_with_room(body_pairs_, entries);
+  resize_with_room(pair_ends_, entries);
+  resize_with_room(end_load_, entries);
+  std::vector<int>& fill = list_scratch_.fill;
+  fill.assign(body_pair_start_.begin(), body_pair_start_.end() - 1);
   for (std::size_t q = 0; q < neighbours_.size(); ++q) {
     body_pairs_[fill[static_cast<int>(neighbours_[q] >> 32)]++] = 2 * static_cast<int>(q);
     body_pairs_[fill[static_cast<int>(neighbours_[q] & 0xffffffffu)]++] = 2 * static_cast<int>(q) + 1;
   }
   // In key order each body's pairs run by the other body's slot; sort them by its index (a few
-  // entries a body, mostly in order already).
+  // entries a body, mostly in order already). Then each pair's two entries, and zero loads: the
+  // next pair loop writes those of the pairs that touch.
   const auto other_body = [this](int entry) {
     const std::uint64_t key = neighbours_[entry >> 1];
     return body_at_[static_cast<int>(entry & 1 ? key >> 32 : key & 0xffffffffu)];
   };
-  for (int i = 0; i < body_count(); ++i)
-    for (int k = body_pair_start_[i] + 1; k < body_pair_start_[i + 1]; ++k) {
-      const int entry = body_pairs_[k], other = other_body(entry);
-      int m = k;
-      for (; m > body_pair_start_[i] && other_body(body_pairs_[m - 1]) > other; --m) body_pairs_[m] = body_pairs_[m - 1];
-      body_pairs_[m] = entry;
+#pragma omp parallel if (entries >= parallel_threshold)
+  {
+#pragma omp for schedule(static)
+    for (int i = 0; i < bodies; ++i)
+      for (int k = body_pair_start_[i] + 1; k < body_pair_start_[i + 1]; ++k) {
+        const int entry = body_pairs_[k], other = other_body(entry);
+        int m = k;
+        for (; m > body_pair_start_[i] && other_body(body_pairs_[m - 1]) > other; --m) body_pairs_[m] = body_pairs_[m - 1];
+        body_pairs_[m] = entry;
+      }
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t k = 0; k < entries; ++k) {
+      pair_ends_[body_pairs_[k]] = static_cast<int>(k);
+      end_load_[k] = EndLoad{0.0, 0.0, 0.0};
     }
-  for (std::size_t k = 0; k < body_pairs_.size(); ++k) pair_ends_[body_pairs_[k]] = static_cast<int>(k);
-  end_load_.assign(body_pairs_.size(), EndLoad{0.0, 0.0, 0.0});
+  }
 }
 
 // The pair loop. Like the step's other passes over the grains, it is compiled for AVX2 and for

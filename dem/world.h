@@ -305,6 +305,23 @@ class World {
   SwingingContact longest_swing_;
   // Broad-phase cell list.
   std::vector<int> cell_start_, cell_bodies_, body_cell_;
+  // What a build of the list works in, kept from build to build: once the pile has reached its
+  // size a new list allocates nothing (fresh pages cost a fault each, on the build's critical
+  // path). Each thread's pairs sit on cache lines of their own.
+  struct alignas(64) ThreadPairs {
+    std::vector<std::uint64_t> keys;
+  };
+  struct ListBuildScratch {
+    std::vector<std::uint64_t> old_neighbours, merged;
+    std::vector<ThreadPairs> thread_pairs;
+    std::vector<std::size_t> earlier;  // reorder_pair_data's argument
+    std::vector<int> fill;             // index_pairs_by_body's next free entry of each body
+    // The pair arrays' other halves: reorder_pair_data fills these and swaps them in.
+    std::vector<Contact> contact;
+    std::vector<std::uint8_t> touching, swing;
+    std::vector<OverlapHint> hint;
+    std::vector<double> apart_until;
+  } list_scratch_;
   double max_grain_radius_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;

@@ -351,10 +351,17 @@ inline double separation_along_centres(const Vec2* a, int na, const Vec2& centro
 
 namespace pilelab::dem::two_crossing {
 
+// The shape of a hint of a corner of one polygon in an edge of the other, from the hint alone: a
+// crossing whose boundary enters and leaves through one edge of exactly one of the polygons.
+// The pair loop sorts its pairs by it before it reads their grains.
+inline bool corner_in_edge_shape(const OverlapHint& hint) {
+  return hint.kind == OverlapHint::crossing && ((hint.edge[1] == hint.edge[3]) != (hint.edge[0] == hint.edge[2]));
+}
+
 // A hint of a corner of one polygon in an edge of the other, with edges that exist: the first
 // two shapes of two_crossing_overlap, which corner_in_edge_x4 answers.
 inline bool corner_in_edge_hint(const OverlapHint& hint, int na, int nb) {
-  if (hint.kind != OverlapHint::crossing) return false;
+  if (!corner_in_edge_shape(hint)) return false;
   const int i = hint.edge[0], k = hint.edge[1], j = hint.edge[2], l = hint.edge[3];
   if (i >= na || j >= na || k >= nb || l >= nb) return false;
   return (k == l && j == next_index(i, na)) || (i == j && k == next_index(l, nb));

@@ -1049,15 +1049,17 @@ void World::collide_and_compute_forces() {
           const BodyGeometry& edge_body = of_b ? sa : sb;
           const int before = of_b ? l : i, corner = of_b ? k : j, edge = of_b ? i : k;
           // The hint's edges exist and make that shape (the others go the scalar way, which
-          // decides what they are); a lane that does not fit reads corner 0 of its bodies.
+          // decides what they are); a lane that does not fit reads a point of nowhere instead
+          // (its bodies may have no corners: a disc).
+          static const Vec2 nowhere(0.0, 0.0);
           const bool fit = two_crossing::corner_in_edge_hint(hint, sa.corner_count, sb.corner_count);
           fits |= unsigned(fit) << lane;
           const int corner_count = corner_body.corner_count, edge_count = edge_body.corner_count;
           const Vec2* const corners = world_vertices + corner_body.first_corner;
           const Vec2* const edges = world_vertices + edge_body.first_corner;
-          p0[lane] = &corners[fit ? before : 0], c[lane] = &corners[fit ? corner : 0];
-          p2[lane] = &corners[fit ? two_crossing::next_index(corner, corner_count) : 0];
-          e0[lane] = &edges[fit ? edge : 0], e1[lane] = &edges[fit ? two_crossing::next_index(edge, edge_count) : 0];
+          p0[lane] = fit ? &corners[before] : &nowhere, c[lane] = fit ? &corners[corner] : &nowhere;
+          p2[lane] = fit ? &corners[two_crossing::next_index(corner, corner_count)] : &nowhere;
+          e0[lane] = fit ? &edges[edge] : &nowhere, e1[lane] = fit ? &edges[two_crossing::next_index(edge, edge_count)] : &nowhere;
           edge_polygon[lane] = edges, edge_polygon_count[lane] = edge_count;
           centre[lane] = of_b ? a : b;
           margin[lane] = two_crossing::clear_margin * std::max(sa.longest_edge, sb.longest_edge);
@@ -1122,8 +1124,7 @@ void World::collide_and_compute_forces() {
       std::size_t corner_count = 0, other_count = 0;
       for (std::size_t q = first; q < last; ++q) {
         const OverlapHint& hint = hints[q];
-        const bool corner_in_edge = hint.kind == OverlapHint::crossing &&
-                                    ((hint.edge[1] == hint.edge[3]) != (hint.edge[0] == hint.edge[2]));
+        const bool corner_in_edge = two_crossing::corner_in_edge_shape(hint);
         by_corner[corner_count] = q;
         corner_count += corner_in_edge;
         others[other_count] = q;

@@ -342,15 +342,15 @@ def pareto(results, path):
         ax.set_ylabel(label)
         ax.set_title("coarse-graining settings, on the base's piles" if later else "DEM settings, each its own piles",
                      fontsize=9)
-    for k, c in colours.items():
-        axes[0].plot([], [], "o", color=c, label=k)
-    axes[0].plot([], [], "s", color="grey", label="a knob's reference")
-    axes[0].legend(fontsize=6)
+    # The knobs' legend below the panels, where it covers no point.
+    handles = [axes[0].plot([], [], "o", color=c, label=k)[0] for k, c in colours.items()]
+    handles.append(axes[0].plot([], [], "s", color="grey", label="a knob's reference")[0])
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles) // 2 + 1, fontsize=7, frameon=False)
     n = max((len(d["members"]) for d in results.values() if "members" in d), default=0)
     fig.suptitle(f"Speed against accuracy: one point per setting, {n} piles each; error bars one SE "
                  "(the profile's: its noise floor); measured with other jobs on the 2-core machine, so the "
                  "DEM cost is processor time", fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(path + ".tmp.png", dpi=110)
     os.replace(path + ".tmp.png", path)
     plt.close(fig)

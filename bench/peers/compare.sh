@@ -39,6 +39,9 @@ cpus=$(nproc)
 echo "machine: ${cpu:-unknown CPU}; $cores cores, $cpus CPUs available; $(uname -sr)"
 load=$(cut -d ' ' -f 1 /proc/loadavg 2>/dev/null || echo 0)
 echo "load:    $load (1-minute average before the runs)"
+if [ -x "$repo/build/bench/core_round_trip" ]; then
+  echo "cores:   $("$repo/build/bench/core_round_trip") ns a cache line's round trip between the first two (bench/core_round_trip.cpp)"
+fi
 if "$py" -c "import sys; sys.exit(0 if float('$load') > 0.5 else 1)" 2>/dev/null; then
   echo "warning: the machine is not idle; the rates below share it with other work"
 fi

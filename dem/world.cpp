@@ -64,8 +64,8 @@ int max_thread_count() {
 }
 
 // v resized to n; when it must grow, with room for an eighth more, so that an array whose
-// length wanders around one size (the pair list's) stops allocating: a fresh page costs a fault,
-// which on a virtual machine can take as long as a thousand pairs' work.
+// length wanders around one size (the pair list's) stops allocating: each fresh page costs a
+// fault, about 10 microseconds on the virtual machines we measured (docs/PERFORMANCE.md).
 template <class T>
 void resize_with_room(std::vector<T>& v, std::size_t n) {
   if (n > v.capacity()) v.reserve(n + n / 8);

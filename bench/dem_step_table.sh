@@ -26,6 +26,7 @@ echo "pile: $pile; $(nproc) cores: $(lscpu | sed -n 's/^Model name:[[:space:]]*/
 # One and two threads alternate, repetition by repetition, so that both sample the same minutes
 # of a machine whose speed wanders (docs/PERFORMANCE.md, "The machine").
 out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
 for rep in $(seq "$reps"); do
   for threads in 1 2; do
     PILELAB_BENCH_PILE=$pile OMP_NUM_THREADS=$threads "$bench" \
@@ -64,4 +65,3 @@ for arg in ("0", "1", "2"):
     best = min(a["real_time"] for a, _ in pairs) / min(b["real_time"] for _, b in pairs)
     print(f"| {names[arg]} | {best:.2f} | {statistics.median(ratios):.2f} | {min(ratios):.2f}-{max(ratios):.2f} |")
 PY
-rm -rf "$out"

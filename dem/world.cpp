@@ -31,6 +31,10 @@ using Double2 = double __attribute__((vector_size(16)));
 // The pair loop's chunk: each thread takes chunks of this many listed pairs, batches their
 // corner-in-edge contacts, then applies the contact law to the chunk's touching pairs.
 constexpr std::size_t pair_chunk = 512;
+// The move takes the grains in blocks: the rotations of a block's grains are computed together,
+// four in the lanes of a vector and several such groups in flight (rotation_sincos_x4). The
+// threads' parts of the passes over the grains are cut between blocks.
+constexpr int grain_block = 32;
 // Below this many grains (or pairs) a parallel region costs more than it saves.
 constexpr int parallel_threshold = 256;
 // How often the bodies take the order of their place (at the first list build after this many
@@ -417,9 +421,10 @@ void World::place_body(int slot) {
 
 // One step, in four passes: each grain moves and takes its new shape; the pair list is renewed
 // if some body went beyond its margin; every listed pair collides; each grain sums its forces
-// and completes its step. The passes over the grains give each thread about the same part of
-// the slots (move in blocks of 32, the others grain by grain), so each thread keeps most of its
-// grains' data in its own cache.
+// and completes its step. Each thread takes one run of the slots in the passes over the grains
+// and one run of the pairs, which follow the slots, in the pair loop, so that a grain's data
+// mostly stays in one core's cache; the runs' lengths follow the rates the threads reached in
+// the last steps (WorkShares).
 void World::step() {
   auto t0 = Clock::now();
   const bool list_outdated = move_grains();
@@ -449,30 +454,32 @@ bool World::move_grains() {
   const int n = static_cast<int>(active_slots_.size());
   const bool listed = !neighbours_stale_ && listed_margin_.size() == static_cast<std::size_t>(body_count());
   bool outdated = !listed;
-  // Grains in blocks: the rotations of a block's grains are computed together, four in the
-  // lanes of a vector and several such groups in flight (rotation_sincos_x4).
-  constexpr int block_size = 32;
-  const int blocks = (n + block_size - 1) / block_size;
-#pragma omp parallel for schedule(static) reduction(|| : outdated) if (n >= parallel_threshold)
-  for (int block = 0; block < blocks; ++block) {
-    const int* const slot = active_slots_.data() + block_size * block;
-    const int count = std::min(block_size, n - block_size * block);
-    double angle[block_size], sn[block_size], c[block_size];
-    for (int k = 0; k < count; ++k) {
-      stepper.predict(motion_, slot[k]);
-      angle[k] = motion_.d[0][3 * slot[k] + 2];
-    }
-    rotation_sincos_x4(angle, sn, c, count);
-    for (int k = 0; k < count; ++k) {
-      const int i = slot[k];
-      place_corners(i, sn[k], c[k]);
-      if (listed) {
-        const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
-        outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
-        displacement_[i] =
-            std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(motion_.d[0][3 * i + 2] - listed_angle_[i]);
+  step_shares_.prepare(n >= parallel_threshold ? max_thread_count() : 1);
+#pragma omp parallel reduction(|| : outdated) if (n >= parallel_threshold)
+  {
+    const auto start = Clock::now();
+    const GrainPart part = grain_part(thread_number(), thread_count());
+    for (int first = part.begin; first < part.end; first += grain_block) {
+      const int* const slot = active_slots_.data() + first;
+      const int count = std::min(grain_block, part.end - first);
+      double angle[grain_block], sn[grain_block], c[grain_block];
+      for (int k = 0; k < count; ++k) {
+        stepper.predict(motion_, slot[k]);
+        angle[k] = motion_.d[0][3 * slot[k] + 2];
+      }
+      rotation_sincos_x4(angle, sn, c, count);
+      for (int k = 0; k < count; ++k) {
+        const int i = slot[k];
+        place_corners(i, sn[k], c[k]);
+        if (listed) {
+          const double moved2 = (slot_position(i) - listed_position_[i]).squaredNorm();
+          outdated = outdated || moved2 > listed_margin_[i] * listed_margin_[i];
+          displacement_[i] =
+              std::sqrt(moved2) + geometry_[i].bounding_radius * std::abs(motion_.d[0][3 * i + 2] - listed_angle_[i]);
+        }
       }
     }
+    step_shares_.record(thread_number(), part.end - part.begin, seconds_since(start));
   }
   for (int w : moving_walls_) {  // prescribed motion: x += v dt (walls keep their own slots)
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
@@ -832,24 +839,7 @@ void World::collide_and_compute_forces() {
   Contact* const pair_contact = pair_contact_.data();
   const int* const pair_ends = pair_ends_.data();
   EndLoad* const end_load = end_load_.data();
-  const std::size_t chunks = (n + pair_chunk - 1) / pair_chunk;
 
-  // Each thread takes one run of consecutive chunks, so that it works on the bodies of one part
-  // of the pile (the list follows the slots, which follow the place), the part whose corners it
-  // placed and whose sums it will form: a body's data then stays in one core's cache, which
-  // matters most where the two cores share no cache. The runs are cut at equal shares of the
-  // expected cost, a pair that touched at the last step counting as touching_pair_cost pairs
-  // (the chunk's count from the last step; after a new list, only an estimate).
-  constexpr std::size_t touching_pair_cost = 4;
-  chunk_touching_.resize(chunks, 0);
-  chunk_cost_end_.resize(chunks + 1);
-  chunk_cost_end_[0] = 0;
-  for (std::size_t c = 0; c < chunks; ++c) {
-    const std::size_t first = c * pair_chunk, last = std::min(n, first + pair_chunk);
-    chunk_cost_end_[c + 1] = chunk_cost_end_[c] + (last - first) + (touching_pair_cost - 1) * chunk_touching_[c];
-  }
-  std::uint32_t* const chunk_touching = chunk_touching_.data();
-  const std::size_t* const cost_end = chunk_cost_end_.data();
   // Each thread's working arrays for a chunk, kept from step to step: no allocation in the step.
   if (chunk_scratch_.size() < static_cast<std::size_t>(max_thread_count())) {
     chunk_scratch_.resize(max_thread_count());
@@ -1105,14 +1095,20 @@ void World::collide_and_compute_forces() {
     Overlap* const overlaps = scratch.overlaps.data();
     std::size_t *const by_corner = scratch.by_corner.data(), *const others = scratch.others.data(),
                       *const touching = scratch.touching.data();
-    // Thread t's run starts at the first chunk whose cost starts at t/threads of the whole or
-    // later (0 for the first thread); the last thread's run ends at the last chunk.
-    const auto run_start = [&](std::size_t t) {
-      return static_cast<std::size_t>(std::lower_bound(cost_end, cost_end + chunks, (cost_end[chunks] * t + threads - 1) / threads) - cost_end);
+    // Each thread takes the pairs whose lower body is among the grains it moved (the walls'
+    // pairs come first, with the first thread's), so that it works on the bodies of one part of
+    // the pile, whose corners it placed and whose sums it will form: a body's data then stays
+    // in one core's cache, which matters most where the two cores share no cache.
+    const auto start = Clock::now();
+    const auto run_start = [&](std::size_t t) -> std::size_t {
+      if (t == 0) return 0;
+      const int k = grain_part(static_cast<int>(t), static_cast<int>(threads)).begin;
+      if (k == static_cast<int>(active_slots_.size())) return n;
+      return static_cast<std::size_t>(std::lower_bound(pair_keys, pair_keys + n, pair_key(active_slots_[k], 0)) - pair_keys);
     };
-    const std::size_t run_end = thread + 1 == threads ? chunks : run_start(thread + 1);
-    for (std::size_t chunk = run_start(thread); chunk < run_end; ++chunk) {
-      const std::size_t first = chunk * pair_chunk, last = std::min(n, first + pair_chunk);
+    const std::size_t run_end = run_start(thread + 1);
+    for (std::size_t first = run_start(thread); first < run_end; first += pair_chunk) {
+      const std::size_t last = std::min(run_end, first + pair_chunk);
       // The chunk's pairs pass through filters, each writing the list of those that pass on
       // without a branch (every pair is written, the count advanced if it passes): the outcome
       // of each test is close to a coin's toss, which the processor would mispredict.
@@ -1156,7 +1152,6 @@ void World::collide_and_compute_forces() {
         touching[touching_count] = q;
         touching_count += touches;
       }
-      chunk_touching[chunk] = static_cast<std::uint32_t>(proven_by_corner + touching_count);
       for (std::size_t group = 0; group < touching_count; group += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, touching_count - group);
         std::size_t q[4];
@@ -1171,6 +1166,7 @@ void World::collide_and_compute_forces() {
         apply_contact_law(q, (1u << lanes) - 1, in);
       }
     }
+    step_shares_.record(static_cast<int>(thread), 0.0, seconds_since(start));
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && body_key(deepest_pair) < body_key(step_deepest_pair))) {
       step_deepest = deepest;
@@ -1222,20 +1218,27 @@ void World::gather_and_correct() {
   const int n = static_cast<int>(active_slots_.size());
   const Vec2 g = settings_.gravity;
   int first_unstable = body_count();  // the first grain (by index) whose state is not finite
-#pragma omp parallel for schedule(static) reduction(min : first_unstable) if (n >= parallel_threshold)
-  for (int k = 0; k < n; ++k) {
-    const int i = active_slots_[k];
-    sum_over_pairs(i);
-    const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
-                             contact_force_[3 * i + 2] * inv_inertia_[i]};
-    stepper.correct(motion_, i, accel);
-    // Any NaN or infinity makes the sum NaN or infinite (as in first_non_finite_grain); a finite
-    // state whose sum overflows (values near 1e308) is reported too, which is no loss.
-    const double* d0 = &motion_.d[0][3 * i];
-    const double* d1 = &motion_.d[1][3 * i];
-    const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
-    if (!std::isfinite(sum) && body_at_[i] < first_unstable) first_unstable = body_at_[i];
+  // Each thread corrects the grains it moved.
+#pragma omp parallel reduction(min : first_unstable) if (n >= parallel_threshold)
+  {
+    const auto start = Clock::now();
+    const GrainPart part = grain_part(thread_number(), thread_count());
+    for (int k = part.begin; k < part.end; ++k) {
+      const int i = active_slots_[k];
+      sum_over_pairs(i);
+      const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
+                               contact_force_[3 * i + 2] * inv_inertia_[i]};
+      stepper.correct(motion_, i, accel);
+      // Any NaN or infinity makes the sum NaN or infinite (as in first_non_finite_grain); a
+      // finite state whose sum overflows (values near 1e308) is reported too, which is no loss.
+      const double* d0 = &motion_.d[0][3 * i];
+      const double* d1 = &motion_.d[1][3 * i];
+      const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
+      if (!std::isfinite(sum) && body_at_[i] < first_unstable) first_unstable = body_at_[i];
+    }
+    step_shares_.record(thread_number(), 0.0, seconds_since(start));
   }
+  step_shares_.update();
   for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);
   if (first_unstable == body_count()) return;
   std::ostringstream s;
@@ -1244,6 +1247,15 @@ void World::gather_and_correct() {
     << " has a non-finite position or velocity. Likely causes: a time step (" << settings_.time_step
     << " s) above the stability limit, or bodies placed overlapping deeply";
   throw std::runtime_error(s.str());
+}
+
+World::GrainPart World::grain_part(int thread, int threads) const {
+  const int n = static_cast<int>(active_slots_.size());
+  const int blocks = (n + grain_block - 1) / grain_block;
+  const auto cut = [&](int t) {
+    return std::min(n, grain_block * static_cast<int>(std::lround(blocks * step_shares_.begin(t, threads))));
+  };
+  return {cut(thread), cut(thread + 1)};
 }
 
 std::uint64_t World::body_key(std::size_t pair) const {

@@ -25,6 +25,7 @@
 #include "dem/integrator.h"
 #include "dem/shape.h"
 #include "dem/vec2.h"
+#include "dem/work_shares.h"
 
 namespace pilelab::dem {
 
@@ -216,6 +217,11 @@ class World {
   void index_pairs_by_body();
   void collide_and_compute_forces();
   void gather_and_correct();
+  // The grains a thread of a pass over the grains takes: active_slots_[begin] to [end - 1].
+  struct GrainPart {
+    int begin, end;
+  };
+  GrainPart grain_part(int thread, int threads) const;
   void place_body(int slot);                           // its corners from its place and angle
   void place_corners(int slot, double sine, double cosine);  // the same, given its angle's sine and cosine
   void order_bodies_by_place();
@@ -268,8 +274,9 @@ class World {
   // Each pair's swing (SwingingContact): bit 7 set if its area grew in the last step, bits 0-6
   // how many steps in a row its change reversed.
   std::vector<std::uint8_t> pair_swing_;
-  std::vector<std::size_t> chunk_cost_end_;  // the pair loop's expected cost up to each chunk of pairs
-  std::vector<std::uint32_t> chunk_touching_;  // each chunk's touching pairs at the last step
+  // Each thread's share of the grains, from the rates at which the threads got through their
+  // steps (WorkShares): it moves, sums and corrects those grains and collides their pairs.
+  WorkShares step_shares_;
   // What a thread of the pair loop works in, one chunk of pairs at a time; on cache lines of its
   // own, so that one thread's writes never share a line with another's.
   struct alignas(64) ChunkScratch {

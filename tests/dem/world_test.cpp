@@ -239,9 +239,14 @@ TEST(World, ResultsDoNotDependOnTheThreadCount) {
     for (int k = 0; k < 100; ++k) w.step();
     return w.motion().d;
   };
-  const auto one = run(1), two = run(2);
+  // Three threads cut the grains and the pairs at other places than two, and the cuts follow
+  // the rates at which the threads got through their parts (WorkShares), which wander.
+  const auto one = run(1), two = run(2), three = run(3);
   omp_set_num_threads(2);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(one[k], two[k]) << "derivative " << k;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(one[k], two[k]) << "derivative " << k;
+    EXPECT_EQ(one[k], three[k]) << "derivative " << k;
+  }
 }
 
 TEST(World, FreeFlightIsExactForEveryScheme) {

@@ -14,6 +14,7 @@ void WorkShares::prepare(int threads) {
 }
 
 double WorkShares::begin(int thread, int threads) const {
+  if (thread >= threads) return 1.0;
   if (begin_.size() != static_cast<std::size_t>(threads) + 1) return double(thread) / double(threads);
   return begin_[thread];
 }

@@ -18,7 +18,7 @@ class WorkShares {
   /// Before the pass (serial): the team it will run with. A team of another size than the
   /// last starts from equal shares.
   void prepare(int threads);
-  /// Where thread t's part begins, as a fraction of the whole: 0 for t = 0, 1 for t = threads.
+  /// Where thread t's part begins, as a fraction of the whole: 0 for t = 0, 1 for t >= threads.
   /// A team of another size than prepared gets equal parts.
   double begin(int thread, int threads) const;
   /// In the pass, by each thread for itself: its part had this expected cost and took this long.
@@ -27,8 +27,8 @@ class WorkShares {
   /// After the pass (serial): the recorded rates move the shares, and the records are cleared.
   void update();
 
-  /// A share never falls below this fraction of an equal one (nor rises above 2 - it): a
-  /// thread held up once (the machine's other work) does not lose its part.
+  /// A share never falls below this fraction of an equal one (nor rises above 2 - it), however
+  /// slowly its thread has run: it keeps enough work for its rate to stay measured.
   static constexpr double least_share = 0.5;
   /// How far one step's rate moves the smoothed rate: about the last 1 / smoothing steps count.
   static constexpr double smoothing = 0.125;

@@ -458,10 +458,10 @@ bool World::move_grains() {
 #pragma omp parallel reduction(|| : outdated) if (n >= parallel_threshold)
   {
     const auto start = Clock::now();
-    const GrainPart part = grain_part(thread_number(), thread_count());
-    for (int first = part.begin; first < part.end; first += grain_block) {
+    const int begin = grain_cut(thread_number(), thread_count()), end = grain_cut(thread_number() + 1, thread_count());
+    for (int first = begin; first < end; first += grain_block) {
       const int* const slot = active_slots_.data() + first;
-      const int count = std::min(grain_block, part.end - first);
+      const int count = std::min(grain_block, end - first);
       double angle[grain_block], sn[grain_block], c[grain_block];
       for (int k = 0; k < count; ++k) {
         stepper.predict(motion_, slot[k]);
@@ -479,7 +479,7 @@ bool World::move_grains() {
         }
       }
     }
-    step_shares_.record(thread_number(), part.end - part.begin, seconds_since(start));
+    step_shares_.record(thread_number(), end - begin, seconds_since(start));
   }
   for (int w : moving_walls_) {  // prescribed motion: x += v dt (walls keep their own slots)
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
@@ -1102,7 +1102,7 @@ void World::collide_and_compute_forces() {
     const auto start = Clock::now();
     const auto run_start = [&](std::size_t t) -> std::size_t {
       if (t == 0) return 0;
-      const int k = grain_part(static_cast<int>(t), static_cast<int>(threads)).begin;
+      const int k = grain_cut(static_cast<int>(t), static_cast<int>(threads));
       if (k == static_cast<int>(active_slots_.size())) return n;
       return static_cast<std::size_t>(std::lower_bound(pair_keys, pair_keys + n, pair_key(active_slots_[k], 0)) - pair_keys);
     };
@@ -1222,8 +1222,8 @@ void World::gather_and_correct() {
 #pragma omp parallel reduction(min : first_unstable) if (n >= parallel_threshold)
   {
     const auto start = Clock::now();
-    const GrainPart part = grain_part(thread_number(), thread_count());
-    for (int k = part.begin; k < part.end; ++k) {
+    const int begin = grain_cut(thread_number(), thread_count()), end = grain_cut(thread_number() + 1, thread_count());
+    for (int k = begin; k < end; ++k) {
       const int i = active_slots_[k];
       sum_over_pairs(i);
       const double accel[3] = {contact_force_[3 * i] * inv_mass_[i] + g.x(), contact_force_[3 * i + 1] * inv_mass_[i] + g.y(),
@@ -1249,13 +1249,10 @@ void World::gather_and_correct() {
   throw std::runtime_error(s.str());
 }
 
-World::GrainPart World::grain_part(int thread, int threads) const {
+int World::grain_cut(int thread, int threads) const {
   const int n = static_cast<int>(active_slots_.size());
   const int blocks = (n + grain_block - 1) / grain_block;
-  const auto cut = [&](int t) {
-    return std::min(n, grain_block * static_cast<int>(std::lround(blocks * step_shares_.begin(t, threads))));
-  };
-  return {cut(thread), cut(thread + 1)};
+  return std::min(n, grain_block * static_cast<int>(std::lround(blocks * step_shares_.begin(thread, threads))));
 }
 
 std::uint64_t World::body_key(std::size_t pair) const {

@@ -217,11 +217,9 @@ class World {
   void index_pairs_by_body();
   void collide_and_compute_forces();
   void gather_and_correct();
-  // The grains a thread of a pass over the grains takes: active_slots_[begin] to [end - 1].
-  struct GrainPart {
-    int begin, end;
-  };
-  GrainPart grain_part(int thread, int threads) const;
+  // Where the part of the grains that thread t takes in every pass begins, as a position in
+  // active_slots_ (t = threads: their end). Thread t takes grain_cut(t) to grain_cut(t + 1) - 1.
+  int grain_cut(int thread, int threads) const;
   void place_body(int slot);                           // its corners from its place and angle
   void place_corners(int slot, double sine, double cosine);  // the same, given its angle's sine and cosine
   void order_bodies_by_place();

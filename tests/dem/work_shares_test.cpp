@@ -28,6 +28,7 @@ TEST(WorkShares, StartEqualAndCoverTheWhole) {
   WorkShares shares;
   shares.prepare(4);
   for (int t = 0; t <= 4; ++t) EXPECT_DOUBLE_EQ(shares.begin(t, 4), t / 4.0);
+  EXPECT_DOUBLE_EQ(shares.begin(5, 4), 1.0);  // past the last thread: the end
   // A team of another size than prepared gets equal parts.
   for (int t = 0; t <= 3; ++t) EXPECT_DOUBLE_EQ(shares.begin(t, 3), t / 3.0);
 }

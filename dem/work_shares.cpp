@@ -19,8 +19,8 @@ double WorkShares::begin(int thread, int threads) const {
   return begin_[thread];
 }
 
-void WorkShares::record(int thread, double cost, double seconds) {
-  if (static_cast<std::size_t>(thread) >= records_.size()) return;  // a team other than prepared
+void WorkShares::record(int thread, int threads, double cost, double seconds) {
+  if (records_.size() != static_cast<std::size_t>(threads) || thread >= threads) return;
   records_[thread].cost += cost;
   records_[thread].seconds += seconds;
 }

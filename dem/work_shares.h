@@ -21,9 +21,11 @@ class WorkShares {
   /// Where thread t's part begins, as a fraction of the whole: 0 for t = 0, 1 for t >= threads.
   /// A team of another size than prepared gets equal parts.
   double begin(int thread, int threads) const;
-  /// In the pass, by each thread for itself: its part had this expected cost and took this long.
-  /// Several passes may record before an update (their costs and times add up).
-  void record(int thread, double cost, double seconds);
+  /// In the pass, by each thread of a team of `threads` for itself: its part had this expected
+  /// cost and took this long. Several passes may record before an update (their costs and times
+  /// add up). A team of another size than prepared records nothing: its parts were not the
+  /// shares'.
+  void record(int thread, int threads, double cost, double seconds);
   /// After the pass (serial): the recorded rates move the shares, and the records are cleared.
   void update();
 

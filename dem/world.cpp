@@ -479,7 +479,7 @@ bool World::move_grains() {
         }
       }
     }
-    step_shares_.record(thread_number(), end - begin, seconds_since(start));
+    step_shares_.record(thread_number(), thread_count(), end - begin, seconds_since(start));
   }
   for (int w : moving_walls_) {  // prescribed motion: x += v dt (walls keep their own slots)
     for (int c = 0; c < 2; ++c) motion_.d[0][3 * w + c] += dt * motion_.d[1][3 * w + c];
@@ -1166,7 +1166,7 @@ void World::collide_and_compute_forces() {
         apply_contact_law(q, (1u << lanes) - 1, in);
       }
     }
-    step_shares_.record(static_cast<int>(thread), 0.0, seconds_since(start));
+    step_shares_.record(static_cast<int>(thread), static_cast<int>(threads), 0.0, seconds_since(start));
 #pragma omp critical
     if (deepest > step_deepest || (deepest == step_deepest && body_key(deepest_pair) < body_key(step_deepest_pair))) {
       step_deepest = deepest;
@@ -1236,7 +1236,7 @@ void World::gather_and_correct() {
       const double sum = d0[0] + d0[1] + d0[2] + d1[0] + d1[1] + d1[2];
       if (!std::isfinite(sum) && body_at_[i] < first_unstable) first_unstable = body_at_[i];
     }
-    step_shares_.record(thread_number(), 0.0, seconds_since(start));
+    step_shares_.record(thread_number(), thread_count(), 0.0, seconds_since(start));
   }
   step_shares_.update();
   for (int w = 0; w < wall_count_; ++w) sum_over_pairs(w);

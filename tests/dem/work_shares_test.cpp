@@ -18,7 +18,7 @@ std::vector<double> run_pass(WorkShares& shares, const std::vector<double>& rate
   for (int t = 0; t < threads; ++t) {
     const double cost = total * (shares.begin(t + 1, threads) - shares.begin(t, threads));
     seconds[t] = cost / rate[t] + overhead[t];
-    shares.record(t, cost, seconds[t]);
+    shares.record(t, threads, cost, seconds[t]);
   }
   shares.update();
   return seconds;
@@ -79,6 +79,16 @@ TEST(WorkShares, NoThreadFallsBelowTheLeastShare) {
   shares.prepare(2);
   for (int step = 0; step < 100; ++step) run_pass(shares, {1.0, 1000.0}, {0.0, 0.0});
   EXPECT_NEAR(shares.begin(1, 2), 0.5 * WorkShares::least_share, 1e-12);
+}
+
+// A pass that ran on another team than prepared (a serial pair loop after a parallel move) did
+// not take the shares' parts: its times must not move them.
+TEST(WorkShares, AnotherTeamRecordsNothing) {
+  WorkShares shares;
+  shares.prepare(2);
+  shares.record(0, 1, 1000.0, 1e6);  // the whole pass on one thread, slowly
+  run_pass(shares, {1.0, 1.0}, {0.0, 0.0});
+  EXPECT_NEAR(shares.begin(1, 2), 0.5, 1e-12);
 }
 
 TEST(WorkShares, ANewTeamSizeStartsEqual) {

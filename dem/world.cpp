@@ -293,6 +293,9 @@ MotionState World::motion_state() const {
 // The bodies in the order of their place: the active grains along a Z curve (Morton order) over
 // their bounding box, then the inactive ones, ties and the inactive ones by index; the walls
 // stay first. Nearby grains so sit near each other in memory, whatever order they were poured in.
+// The curve splits across x first (its first half is the box's left half), so that the threads'
+// parts, cut along it, meet along a line up through the pile, which is wider than tall, rather
+// than across it: fewer pairs straddle two threads' parts.
 void World::order_bodies_by_place() {
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
   for (int slot : active_slots_) {
@@ -314,8 +317,8 @@ void World::order_bodies_by_place() {
     std::uint64_t key = ~std::uint64_t{0};
     if (active_[slot]) {
       const auto cell = [](double u) { return static_cast<std::uint64_t>(std::min(std::max(u, 0.0), 65535.0)); };
-      key = spread_bits(cell((motion_.d[0][3 * slot] - xmin) * sx)) |
-            spread_bits(cell((motion_.d[0][3 * slot + 1] - ymin) * sy)) << 1;
+      key = spread_bits(cell((motion_.d[0][3 * slot] - xmin) * sx)) << 1 |
+            spread_bits(cell((motion_.d[0][3 * slot + 1] - ymin) * sy));
     }
     place[body - wall_count_] = {key, body};
   }
@@ -1095,75 +1098,83 @@ void World::collide_and_compute_forces() {
     Overlap* const overlaps = scratch.overlaps.data();
     std::size_t *const by_corner = scratch.by_corner.data(), *const others = scratch.others.data(),
                       *const touching = scratch.touching.data();
-    // Each thread takes the pairs whose lower body is among the grains it moved (the walls'
-    // pairs come first, with the first thread's), so that it works on the bodies of one part of
-    // the pile, whose corners it placed and whose sums it will form: a body's data then stays
-    // in one core's cache, which matters most where the two cores share no cache.
+    // Each thread takes the pairs of a wall with one of the grains it moved and the pairs whose
+    // lower body is one of them, so that it works on the bodies of one part of the pile, whose
+    // corners it placed and whose sums it will form: a body's data then stays in one core's
+    // cache, which matters most where the two cores share no cache. Its grains are the slots
+    // first_slot to end_slot - 1; a wall's pairs come before the grains' and follow the slot of
+    // their grain, so each wall's pairs with them are one run of the list.
     const auto start = Clock::now();
-    const auto run_start = [&](std::size_t t) -> std::size_t {
-      if (t == 0) return 0;
+    const auto slot_at_cut = [&](std::size_t t) -> int {
       const int k = grain_cut(static_cast<int>(t), static_cast<int>(threads));
-      if (k == static_cast<int>(active_slots_.size())) return n;
-      return static_cast<std::size_t>(std::lower_bound(pair_keys, pair_keys + n, pair_key(active_slots_[k], 0)) - pair_keys);
+      return k == static_cast<int>(active_slots_.size()) ? body_count() : active_slots_[k];
     };
-    const std::size_t run_end = run_start(thread + 1);
-    for (std::size_t first = run_start(thread); first < run_end; first += pair_chunk) {
-      const std::size_t last = std::min(run_end, first + pair_chunk);
-      // The chunk's pairs pass through filters, each writing the list of those that pass on
-      // without a branch (every pair is written, the count advanced if it passes): the outcome
-      // of each test is close to a coin's toss, which the processor would mispredict.
-      //
-      // A pair whose last step left a corner of one grain in an edge of the other (by its hint)
-      // goes to the four-lane kernel, the rest to the broad-phase test. A contact the kernel
-      // proves needs no such test: the corner lies in both grains, so their bounding circles
-      // meet, and a pair that touched is never proven apart.
-      std::size_t corner_count = 0, other_count = 0;
-      for (std::size_t q = first; q < last; ++q) {
-        const OverlapHint& hint = hints[q];
-        const bool corner_in_edge = two_crossing::corner_in_edge_shape(hint);
-        by_corner[corner_count] = q;
-        corner_count += corner_in_edge;
-        others[other_count] = q;
-        other_count += !corner_in_edge;
-      }
-      const std::size_t proven_by_corner =
-          corner_in_edge_contacts(by_corner, corner_count, [&](std::size_t q) __attribute__((always_inline)) {
-            others[other_count++] = q;
-          });
-      // The rest: candidates not proven apart (open, compacted in place) to the scalar narrow
-      // phase, then the contact law of those that touch, four at a time.
-      std::size_t open_count = 0, candidate_count = 0, proven_count = 0;
-      for (std::size_t k = 0; k < other_count; ++k) {
-        const std::size_t q = others[k];
-        const bool candidate = may_touch(q), proven = proven_apart_still(q), open = candidate & !proven;
-        if (!open) no_contact(q);  // rare for a pair that touched: a foreseeable branch
-        others[open_count] = q;
-        open_count += open;
-        candidate_count += candidate;
-        proven_count += candidate & proven;
-      }
-      candidates += candidate_count + proven_by_corner;
-      proven_apart += proven_count;
-      std::size_t touching_count = 0;
-      for (std::size_t k = 0; k < open_count; ++k) {
-        const std::size_t q = others[k];
-        const bool touches = narrow(q, overlaps[q - first]);
-        if (!touches) no_contact(q);
-        touching[touching_count] = q;
-        touching_count += touches;
-      }
-      for (std::size_t group = 0; group < touching_count; group += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, touching_count - group);
-        std::size_t q[4];
-        for (std::size_t lane = 0; lane < 4; ++lane) q[lane] = touching[group + std::min(lane, lanes - 1)];
-        ContactLanes in;
-        in.area = lanes_of([&](int k) { return overlaps[q[k] - first].area; });
-        in.chord = lanes_of([&](int k) { return overlaps[q[k] - first].chord; });
-        in.point_x = lanes_of([&](int k) { return overlaps[q[k] - first].point.x(); });
-        in.point_y = lanes_of([&](int k) { return overlaps[q[k] - first].point.y(); });
-        in.normal_x = lanes_of([&](int k) { return overlaps[q[k] - first].normal.x(); });
-        in.normal_y = lanes_of([&](int k) { return overlaps[q[k] - first].normal.y(); });
-        apply_contact_law(q, (1u << lanes) - 1, in);
+    const int first_slot = thread == 0 ? wall_count : slot_at_cut(thread), end_slot = slot_at_cut(thread + 1);
+    const auto pairs_from = [&](int lower, int upper) -> std::size_t {
+      return static_cast<std::size_t>(std::lower_bound(pair_keys, pair_keys + n, pair_key(lower, upper)) - pair_keys);
+    };
+    for (int lower = 0; lower <= wall_count; ++lower) {
+      const bool of_wall = lower < wall_count;
+      const std::size_t run_end = of_wall ? pairs_from(lower, end_slot) : pairs_from(end_slot, 0);
+      for (std::size_t first = of_wall ? pairs_from(lower, first_slot) : pairs_from(first_slot, 0); first < run_end;
+           first += pair_chunk) {
+        const std::size_t last = std::min(run_end, first + pair_chunk);
+        // The chunk's pairs pass through filters, each writing the list of those that pass on
+        // without a branch (every pair is written, the count advanced if it passes): the outcome
+        // of each test is close to a coin's toss, which the processor would mispredict.
+        //
+        // A pair whose last step left a corner of one grain in an edge of the other (by its hint)
+        // goes to the four-lane kernel, the rest to the broad-phase test. A contact the kernel
+        // proves needs no such test: the corner lies in both grains, so their bounding circles
+        // meet, and a pair that touched is never proven apart.
+        std::size_t corner_count = 0, other_count = 0;
+        for (std::size_t q = first; q < last; ++q) {
+          const OverlapHint& hint = hints[q];
+          const bool corner_in_edge = two_crossing::corner_in_edge_shape(hint);
+          by_corner[corner_count] = q;
+          corner_count += corner_in_edge;
+          others[other_count] = q;
+          other_count += !corner_in_edge;
+        }
+        const std::size_t proven_by_corner =
+            corner_in_edge_contacts(by_corner, corner_count, [&](std::size_t q) __attribute__((always_inline)) {
+              others[other_count++] = q;
+            });
+        // The rest: candidates not proven apart (open, compacted in place) to the scalar narrow
+        // phase, then the contact law of those that touch, four at a time.
+        std::size_t open_count = 0, candidate_count = 0, proven_count = 0;
+        for (std::size_t k = 0; k < other_count; ++k) {
+          const std::size_t q = others[k];
+          const bool candidate = may_touch(q), proven = proven_apart_still(q), open = candidate & !proven;
+          if (!open) no_contact(q);  // rare for a pair that touched: a foreseeable branch
+          others[open_count] = q;
+          open_count += open;
+          candidate_count += candidate;
+          proven_count += candidate & proven;
+        }
+        candidates += candidate_count + proven_by_corner;
+        proven_apart += proven_count;
+        std::size_t touching_count = 0;
+        for (std::size_t k = 0; k < open_count; ++k) {
+          const std::size_t q = others[k];
+          const bool touches = narrow(q, overlaps[q - first]);
+          if (!touches) no_contact(q);
+          touching[touching_count] = q;
+          touching_count += touches;
+        }
+        for (std::size_t group = 0; group < touching_count; group += 4) {
+          const std::size_t lanes = std::min<std::size_t>(4, touching_count - group);
+          std::size_t q[4];
+          for (std::size_t lane = 0; lane < 4; ++lane) q[lane] = touching[group + std::min(lane, lanes - 1)];
+          ContactLanes in;
+          in.area = lanes_of([&](int k) { return overlaps[q[k] - first].area; });
+          in.chord = lanes_of([&](int k) { return overlaps[q[k] - first].chord; });
+          in.point_x = lanes_of([&](int k) { return overlaps[q[k] - first].point.x(); });
+          in.point_y = lanes_of([&](int k) { return overlaps[q[k] - first].point.y(); });
+          in.normal_x = lanes_of([&](int k) { return overlaps[q[k] - first].normal.x(); });
+          in.normal_y = lanes_of([&](int k) { return overlaps[q[k] - first].normal.y(); });
+          apply_contact_law(q, (1u << lanes) - 1, in);
+        }
       }
     }
     step_shares_.record(static_cast<int>(thread), static_cast<int>(threads), 0.0, seconds_since(start));

@@ -425,7 +425,7 @@ void World::place_body(int slot) {
 // One step, in four passes: each grain moves and takes its new shape; the pair list is renewed
 // if some body went beyond its margin; every listed pair collides; each grain sums its forces
 // and completes its step. Each thread takes one run of the slots in the passes over the grains
-// and one run of the pairs, which follow the slots, in the pair loop, so that a grain's data
+// and those grains' pairs in the pair loop (the pairs follow the slots), so that a grain's data
 // mostly stays in one core's cache; the runs' lengths follow the rates the threads reached in
 // the last steps (WorkShares).
 void World::step() {

@@ -23,6 +23,18 @@ enum class TangentialHistory {
            ///< viscous term then accumulates, a stiffness k_t + sqrt(k_t m)/dt that depends on dt
 };
 
+/// Where the normal force acts along the contact line (paper, eq. A.1 and Appendix A).
+enum class ForcePoint {
+  /// Where the overlap's centroid projects onto the contact line. A force E A / l (fixed l) is
+  /// then the gradient of (E / l) times the overlap's first moment of depth, so it stores and
+  /// returns energy: a lone grain rocking on its corners comes to rest (docs/DEM.md).
+  area_centroid,
+  /// The chord's midpoint, as Appendix A places it. The force is then not conservative where the
+  /// overlap is not symmetric (a corner pressed into an edge): a grain rocking between two
+  /// corners gains energy and never settles.
+  chord_midpoint,
+};
+
 struct ContactParameters {
   double youngs_modulus = 1e7;           ///< E [N/m] (2D: force per unit depth per unit strain)
   double damping_gamma = 0.75;           ///< gamma, dimensionless
@@ -30,6 +42,7 @@ struct ContactParameters {
   double tangential_stiffness_ratio = 2.0 / 7.0;  ///< k_t / E (paper: 2/7)
   ContactLength contact_length = ContactLength::paper;
   TangentialHistory tangential_history = TangentialHistory::spring;
+  ForcePoint force_point = ForcePoint::area_centroid;
 };
 
 /// What the contact law needs to know of a contact, in the frame of the pair (a, b) with the

@@ -13,6 +13,7 @@ namespace pilelab::dem {
 struct ContactLanes {
   Double4 area, chord;                  ///< overlap area [m^2] and contact-line length [m]
   Double4 point_x, point_y;             ///< force point [m]
+  Double4 centroid_shift;               ///< Overlap::centroid_shift [m], for the caller that places the force point
   Double4 normal_x, normal_y;           ///< unit normal from a to b
   Double4 centre_a_x, centre_a_y, centre_b_x, centre_b_y;  ///< centroids [m]
   Double4 velocity_a_x, velocity_a_y, spin_a;  ///< a's velocity [m/s] and angular velocity [rad/s]

@@ -86,6 +86,7 @@ Overlap finish(const ClipVertex* v, int n, double length_tol, const Vec2& centro
     o.chord = 0.0;
   }
   o.point = (o.crossings == 2) ? Vec2(0.5 * (first_crossing + second_crossing)) : centroid;
+  o.centroid_shift = (centroid - o.point).dot(perp(o.normal));
   return o;
 }
 
@@ -394,13 +395,24 @@ bool line_meets_circle(const Vec2& p, const Vec2& d, double r, double& t_in, dou
 }
 
 // Signed area of the intersection of the disc (centred at the origin, radius r) with the
-// triangle (origin, p, q): the standard decomposition of a circle-polygon intersection.
-double disc_triangle_area(Vec2 p, Vec2 q, double r) {
+// triangle (origin, p, q): the standard decomposition of a circle-polygon intersection into
+// sectors and a triangle. Its signed first moment about the origin is added to moment.
+double disc_triangle_area(Vec2 p, Vec2 q, double r, Vec2& moment) {
   const double r2 = r * r;
   const Vec2 d = q - p;
   if (d.squaredNorm() == 0.0) return 0.0;
-  auto sector = [&](const Vec2& u, const Vec2& v) { return 0.5 * r2 * portable_atan2(cross(u, v), u.dot(v)); };
-  auto triangle = [&](const Vec2& u, const Vec2& v) { return 0.5 * cross(u, v); };
+  // A sector from direction u to v: area r^2 angle / 2; first moment (r^3 / 3) (sin b - sin a,
+  // cos a - cos b) for the angles a, b of u and v.
+  auto sector = [&](const Vec2& u, const Vec2& v) {
+    const double u_norm = u.norm(), v_norm = v.norm();
+    if (u_norm > 0.0 && v_norm > 0.0)  // a corner at the centre spans no sector
+      moment += (r2 * r / 3.0) * Vec2(v.y() / v_norm - u.y() / u_norm, u.x() / u_norm - v.x() / v_norm);
+    return 0.5 * r2 * portable_atan2(cross(u, v), u.dot(v));
+  };
+  auto triangle = [&](const Vec2& u, const Vec2& v) {
+    moment += (cross(u, v) / 6.0) * (u + v);
+    return 0.5 * cross(u, v);
+  };
   double t_in, t_out;
   if (!line_meets_circle(p, d, r, t_in, t_out)) return sector(p, q);  // the segment's line misses the circle
   const double t0 = std::clamp(t_in, 0.0, 1.0), t1 = std::clamp(t_out, 0.0, 1.0);
@@ -460,7 +472,8 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
     return o;
   }
   double area = 0.0;
-  for (int k = 0; k < nb; ++k) area += disc_triangle_area(b[k] - c, b[(k + 1) % nb] - c, r);
+  Vec2 moment(0, 0);  // about the disc's centre
+  for (int k = 0; k < nb; ++k) area += disc_triangle_area(b[k] - c, b[(k + 1) % nb] - c, r, moment);
   if (!(area > 0.0)) return o;
   o.area = area;
   o.crossings = crossings;
@@ -474,6 +487,7 @@ Overlap overlap_disc_polygon(const Vec2& c, double r, const Vec2* b, int nb, con
     o.normal = d.norm() > length_tol ? Vec2(d / d.norm()) : Vec2(0.0, 1.0);
   }
   o.point = crossings == 2 ? Vec2(0.5 * (crossing[0] + crossing[1])) : Vec2(crossing_sum / crossings);
+  o.centroid_shift = (c + moment / area - o.point).dot(perp(o.normal));
   return o;
 }
 

@@ -22,6 +22,10 @@ struct Overlap {
   Vec2 point{0, 0};    ///< force point: midpoint of the chord (overlap centroid if the boundaries
                        ///< do not cross exactly twice: nested or degenerate overlaps) [m]
   Vec2 normal{0, 1};   ///< unit normal pointing from a to b
+  /// Where the overlap's centroid projects onto the contact line, from the force point along the
+  /// tangent perp(normal) [m]. The contact law may act there instead (ForcePoint::area_centroid):
+  /// a force proportional to the area is conservative only through that line (docs/DEM.md).
+  double centroid_shift = 0.0;
   int crossings = 0;   ///< number of boundary crossing points found
   /// Not touching: a lower bound on the distance between the shapes [m], their separation
   /// along the axis that showed them apart (a separating edge's outward normal, or the line of

@@ -83,6 +83,8 @@ DemScene read_dem_scene(SceneReader& r) {
   c.contact_length = length == "book" ? ContactLength::book : ContactLength::paper;
   const std::string history = r.get_choice("dem.contact.tangential_history", "spring", {"spring", "total"});
   c.tangential_history = history == "total" ? TangentialHistory::total : TangentialHistory::spring;
+  const std::string point = r.get_choice("dem.contact.force_point", "area_centroid", {"area_centroid", "chord_midpoint"});
+  c.force_point = point == "chord_midpoint" ? ForcePoint::chord_midpoint : ForcePoint::area_centroid;
 
   s.scheme = scheme_from_name(r.get_choice("dem.integrator.scheme", "leapfrog", {"gear5", "verlet", "leapfrog"}));
   s.time_step = r.get_double("dem.integrator.time_step_s", 0.0, Range::at_least(0.0));

@@ -130,9 +130,10 @@ struct Triangle {
          clearly_left_of_edge(p2, p0, p, margin2);
 }
 
-// The overlap of a two-crossing configuration from its crossings X1 (a enters b) and X2, and
-// twice its area.
-[[gnu::always_inline]] inline bool two_crossing_result(const Point& x1, const Point& x2, double a2, double margin, Overlap& o) {
+// The overlap of a two-crossing configuration from its crossings X1 (a enters b) and X2, twice
+// its area and its centroid.
+[[gnu::always_inline]] inline bool two_crossing_result(const Point& x1, const Point& x2, double a2, const Point& centroid,
+                                                       double margin, Overlap& o) {
   const double area = 0.5 * a2;
   if (!(area > 0.0)) return false;
   const double lx = x2.x - x1.x, ly = x2.y - x1.y;
@@ -141,7 +142,9 @@ struct Triangle {
   o.area = area;
   o.chord = chord;
   o.normal = Vec2(ly / chord, -lx / chord);  // outward(X2 - X1) / chord
-  o.point = Vec2(0.5 * (x1.x + x2.x), 0.5 * (x1.y + x2.y));
+  const double mid_x = 0.5 * (x1.x + x2.x), mid_y = 0.5 * (x1.y + x2.y);
+  o.point = Vec2(mid_x, mid_y);
+  o.centroid_shift = ((centroid.x - mid_x) * lx + (centroid.y - mid_y) * ly) / chord;  // along t = (X2 - X1) / chord
   o.crossings = 2;
   return true;
 }
@@ -153,7 +156,7 @@ struct Triangle {
 // (two are shared), without its loops. Returns false where the general case would.
 [[gnu::always_inline]] inline bool corner_in_edge(const Point& p0, const Point& c, const Point& p2, const Point& e0, const Point& e1,
                     const Point& q_centroid, const Vec2* q_corners, int q_count, double margin2, Point& x_in, Point& x_out,
-                    double& a2) {
+                    double& a2, Point& centroid) {
   const double d0x = c.x - p0.x, d0y = c.y - p0.y, d2x = p2.x - c.x, d2y = p2.y - c.y;
   const double dex = e1.x - e0.x, dey = e1.y - e0.y;
   const double s0 = side_of(dex, dey, e0, p0), s1 = side_of(dex, dey, e0, c), s2 = side_of(dex, dey, e0, p2);
@@ -174,6 +177,7 @@ struct Triangle {
     return false;
   const double qx = c.x - x_in.x, qy = c.y - x_in.y, rx = x_out.x - x_in.x, ry = x_out.y - x_in.y;
   a2 = (0.0 * qy - 0.0 * qx) + (qx * ry - qy * rx);  // the shoelace about X_in, as the general case sums it
+  centroid = {(x_in.x + c.x + x_out.x) / 3.0, (x_in.y + c.y + x_out.y) / 3.0};
   return true;
 }
 
@@ -217,17 +221,21 @@ struct Triangle {
   }
   // Shoelace about X1, so that the round-off scales with the overlap, not with |X1|. The
   // closing edge back to X1 contributes nothing.
-  double a2 = 0.0, px = 0.0, py = 0.0;  // px, py: the last corner, relative to X1
+  // mx, my: three times the area's first moment about X1, for its centroid.
+  double a2 = 0.0, mx = 0.0, my = 0.0, px = 0.0, py = 0.0;  // px, py: the last corner, relative to X1
   const auto add = [&](const Point& p) {
     const double qx = p.x - x1.x, qy = p.y - x1.y;
-    a2 += px * qy - py * qx;
+    const double c = px * qy - py * qx;
+    a2 += c;
+    mx += (px + qx) * c;
+    my += (py + qy) * c;
     px = qx;
     py = qy;
   };
   for (int m = 1, v = next_index(i, na); m <= a_chain; ++m, v = next_index(v, na)) add(point_at(a, v));
   add(x2);
   for (int m = 1, v = next_index(l, nb); m <= b_chain; ++m, v = next_index(v, nb)) add(point_at(b, v));
-  return two_crossing_result(x1, x2, a2, margin, o);
+  return two_crossing_result(x1, x2, a2, {x1.x + mx / (3.0 * a2), x1.y + my / (3.0 * a2)}, margin, o);
 }
 
 // One corner of each polygon inside the other, the usual shape of a flat face pressed on a flat
@@ -236,7 +244,7 @@ struct Triangle {
 // each, in its order, without its loops; returns false where it would.
 [[gnu::always_inline]] inline bool corner_each(const Vec2* a, int na, const Vec2& centroid_a, const Vec2* b, int nb,
                                                const Vec2& centroid_b, int i, int k, int j, int l, double margin2,
-                                               Point& x1, Point& x2, double& a2) {
+                                               Point& x1, Point& x2, double& a2, Point& centroid) {
   if (!proper_crossing<true>(a, na, i, b, nb, k, margin2, x1)) return false;
   if (!proper_crossing<false>(a, na, j, b, nb, l, margin2, x2)) return false;
   const Point in_b = point_at(a, j), in_a = point_at(b, k);
@@ -247,14 +255,18 @@ struct Triangle {
       !clearly_inside(in_a, a, na, margin2))
     return false;
   // The shoelace about X1 over a[j], X2, b[k], term by term as the general case sums it.
-  double px = 0.0, py = 0.0;
+  double px = 0.0, py = 0.0, mx = 0.0, my = 0.0;
   a2 = 0.0;
   for (const Point& p : {in_b, x2, in_a}) {
     const double qx = p.x - x1.x, qy = p.y - x1.y;
-    a2 += px * qy - py * qx;
+    const double c = px * qy - py * qx;
+    a2 += c;
+    mx += (px + qx) * c;
+    my += (py + qy) * c;
     px = qx;
     py = qy;
   }
+  centroid = {x1.x + mx / (3.0 * a2), x1.y + my / (3.0 * a2)};
   return true;
 }
 
@@ -268,20 +280,20 @@ struct Triangle {
   const int i = edge[0], k = edge[1], j = edge[2], l = edge[3];
   if (i >= na || j >= na || k >= nb || l >= nb) return false;
   const double margin2 = margin * margin;
-  Point x1, x2;
+  Point x1, x2, centroid;
   double a2 = 0.0;
   if (k == l && j == next_index(i, na)) {
     if (corner_in_edge(point_at(a, i), point_at(a, j), point_at(a, next_index(j, na)), point_at(b, k),
-                       point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, b, nb, margin2, x1, x2, a2))
-      return two_crossing_result(x1, x2, a2, margin, o);
+                       point_at(b, next_index(k, nb)), {centroid_b.x(), centroid_b.y()}, b, nb, margin2, x1, x2, a2, centroid))
+      return two_crossing_result(x1, x2, a2, centroid, margin, o);
   } else if (i == j && k == next_index(l, nb)) {
     // b's corner k in a's edge i: b's edges l -> k and k -> k+1 cross it at X2 and X1.
     if (corner_in_edge(point_at(b, l), point_at(b, k), point_at(b, next_index(k, nb)), point_at(a, i),
-                       point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, a, na, margin2, x2, x1, a2))
-      return two_crossing_result(x1, x2, a2, margin, o);
+                       point_at(a, next_index(i, na)), {centroid_a.x(), centroid_a.y()}, a, na, margin2, x2, x1, a2, centroid))
+      return two_crossing_result(x1, x2, a2, centroid, margin, o);
   } else if (j == next_index(i, na) && k == next_index(l, nb)) {
-    if (corner_each(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin2, x1, x2, a2))
-      return two_crossing_result(x1, x2, a2, margin, o);
+    if (corner_each(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin2, x1, x2, a2, centroid))
+      return two_crossing_result(x1, x2, a2, centroid, margin, o);
     return false;
   }
   return general_two_crossing(a, na, centroid_a, b, nb, centroid_b, i, k, j, l, margin, o);
@@ -377,7 +389,7 @@ struct CornerInEdgeBatch {
   Mask4 chord_reversed;  ///< the chord from where c -> p2 crosses to where p0 -> c does (b's corner in a)
 };
 struct CornerInEdgeOverlaps {
-  Double4 area, chord, point_x, point_y, normal_x, normal_y;
+  Double4 area, chord, point_x, point_y, normal_x, normal_y, centroid_shift;
   Mask4 ok;
   /// Every test passed but the corner's in the triangle of the chord and the centroid: the lane
   /// is corner_in_edge's overlap if the corner lies clearly inside every edge of the edge's
@@ -433,8 +445,11 @@ struct CornerInEdgeOverlaps {
   out.chord = chord;
   out.normal_x = ly / chord;
   out.normal_y = -lx / chord;
-  out.point_x = 0.5 * (inx + outx);
-  out.point_y = 0.5 * (iny + outy);
+  const Double4 mid_x = 0.5 * (inx + outx), mid_y = 0.5 * (iny + outy);
+  out.point_x = mid_x;
+  out.point_y = mid_y;
+  const Double4 centroid_x = (inx + in.cx + outx) / 3.0, centroid_y = (iny + in.cy + outy) / 3.0;
+  out.centroid_shift = ((centroid_x - mid_x) * lx + (centroid_y - mid_y) * ly) / chord;
 }
 #pragma GCC diagnostic pop
 

@@ -963,6 +963,11 @@ void World::collide_and_compute_forces() {
       in.old_spring = continues ? lanes_of([&](int k) { return pair_contact[q[k]].spring; }) : zero;
       in.old_normal_x = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.x(); }) : zero;
       in.old_normal_y = continues ? lanes_of([&](int k) { return pair_contact[q[k]].normal.y(); }) : zero;
+      // The force point: on the contact line, where the law places it (ForcePoint).
+      if (law.force_point == ForcePoint::area_centroid) {
+        in.point_x = in.point_x - in.centroid_shift * in.normal_y;
+        in.point_y = in.point_y + in.centroid_shift * in.normal_x;
+      }
       contact_law_lanes(law, dt, in, out);
 
       // The swing (SwingingContact): does the area's change reverse that of the last step? A
@@ -1085,6 +1090,7 @@ void World::collide_and_compute_forces() {
         law_in.chord = out.chord;
         law_in.point_x = out.point_x;
         law_in.point_y = out.point_y;
+        law_in.centroid_shift = out.centroid_shift;
         law_in.normal_x = out.normal_x;
         law_in.normal_y = out.normal_y;
         apply_contact_law(q, proven, law_in);
@@ -1171,6 +1177,7 @@ void World::collide_and_compute_forces() {
           in.chord = lanes_of([&](int k) { return overlaps[q[k] - first].chord; });
           in.point_x = lanes_of([&](int k) { return overlaps[q[k] - first].point.x(); });
           in.point_y = lanes_of([&](int k) { return overlaps[q[k] - first].point.y(); });
+          in.centroid_shift = lanes_of([&](int k) { return overlaps[q[k] - first].centroid_shift; });
           in.normal_x = lanes_of([&](int k) { return overlaps[q[k] - first].normal.x(); });
           in.normal_y = lanes_of([&](int k) { return overlaps[q[k] - first].normal.y(); });
           apply_contact_law(q, (1u << lanes) - 1, in);

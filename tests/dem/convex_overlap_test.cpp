@@ -73,6 +73,19 @@ ExactPolygon exact_intersection(const ExactPolygon& a, const ExactPolygon& b) {
 
 Exact exact_area(const ExactPolygon& p) { return p.is_empty() ? Exact(0) : p.area(); }
 
+// The centroid of a polygon of positive area, from exact first moments, rounded once.
+Vec2 exact_centroid(const ExactPolygon& p) {
+  Exact a2 = 0, mx = 0, my = 0;
+  for (auto e = p.edges_begin(); e != p.edges_end(); ++e) {
+    const auto &u = e->source(), &v = e->target();
+    const Exact c = u.x() * v.y() - v.x() * u.y();
+    a2 += c;
+    mx += (u.x() + v.x()) * c;
+    my += (u.y() + v.y()) * c;
+  }
+  return {to_double(mx / (3 * a2)), to_double(my / (3 * a2))};
+}
+
 double perimeter(const ExactPolygon& p) {  // rounded edge lengths: only a tolerance scale
   double sum = 0.0;
   for (auto e = p.edges_begin(); e != p.edges_end(); ++e) sum += std::sqrt(to_double(e->squared_length()));
@@ -348,6 +361,8 @@ PairReport check_polygon_pair(const Polygon& a, const Polygon& b, bool probe_gra
   // The force point lies in the overlap.
   const double point_tol = o.crossings == 2 ? tol.position : tol.centroid;
   EXPECT_LE(distance_to(exact_overlap, o.point), point_tol) << "point " << o.point.transpose();
+  // The overlap's centroid projects onto the contact line at centroid_shift from the point.
+  EXPECT_NEAR(o.centroid_shift, (exact_centroid(exact_overlap) - o.point).dot(perp(o.normal)), tol.centroid);
 
   if (crossings.collinear) return report;  // the crossing set is a segment: nothing to compare
   // Crossings that round-off cannot merge must all be found.
@@ -723,7 +738,8 @@ TEST(ConvexOverlap, SwappingTheGrainsFlipsOnlyTheNormal) {
 
 bool same_bits(const Overlap& x, const Overlap& y) {
   return std::memcmp(&x.area, &y.area, sizeof(double)) == 0 && std::memcmp(&x.chord, &y.chord, sizeof(double)) == 0 &&
-         x.point == y.point && x.normal == y.normal && x.crossings == y.crossings;
+         x.point == y.point && x.normal == y.normal && x.crossings == y.crossings &&
+         std::memcmp(&x.centroid_shift, &y.centroid_shift, sizeof(double)) == 0;
 }
 
 double longest_edge(const Polygon& a, const Polygon& b) {
@@ -1180,6 +1196,12 @@ TEST(DiscPolygonOverlap, RandomPairsLieBetweenInscribedAndCircumscribedPolygons)
     EXPECT_LE((o.point - 0.5 * (x1 + x2)).norm(), point_tol);
     EXPECT_NEAR(o.chord, (x2 - x1).norm(), gradient_tol);
     EXPECT_LE(std::abs(o.normal.dot(x2 - x1)), gradient_tol);
+    // The overlap's centroid on the contact line: the inscribed polygon's overlap differs from
+    // the disc's by at most upper - lower in area, which moves a centroid by at most that share
+    // of the area times the overlap's reach (2 r).
+    const Vec2 centroid = exact_centroid(exact_intersection(exact_b, inscribed));
+    const double centroid_tol = (upper - lower + 2 * tol) / o.area * 2 * r + point_tol;
+    EXPECT_NEAR(o.centroid_shift, (centroid - o.point).dot(perp(o.normal)), centroid_tol);
     for (const Vec2& p : b) {
       const Big px = Big(p.x()) - Big(c.x()), py = Big(p.y()) - Big(c.y());
       const bool inside = px * px + py * py < Big(r) * Big(r);
@@ -1270,11 +1292,11 @@ TEST(ConvexOverlap, BatchedCornerInEdgeMatchesTheScalarPathBitForBit) {
     for (int lane = 0; lane < 4; ++lane) {
       if (!out.ok[lane]) continue;
       ++accepted;
-      const double batch[6] = {out.area[lane], out.chord[lane], out.point_x[lane], out.point_y[lane],
-                               out.normal_x[lane], out.normal_y[lane]};
-      const double reference[6] = {scalar.area, scalar.chord, scalar.point.x(), scalar.point.y(), scalar.normal.x(),
-                                   scalar.normal.y()};
-      for (int m = 0; m < 6; ++m)
+      const double batch[7] = {out.area[lane], out.chord[lane], out.point_x[lane], out.point_y[lane],
+                               out.normal_x[lane], out.normal_y[lane], out.centroid_shift[lane]};
+      const double reference[7] = {scalar.area, scalar.chord, scalar.point.x(), scalar.point.y(), scalar.normal.x(),
+                                   scalar.normal.y(), scalar.centroid_shift};
+      for (int m = 0; m < 7; ++m)
         ASSERT_EQ(std::memcmp(&batch[m], &reference[m], sizeof(double)), 0)
             << "trial " << trial << " value " << m << ": " << batch[m] << " against " << reference[m];
     }
@@ -1346,10 +1368,11 @@ TEST(ConvexOverlap, BatchedCornerInEdgeNearTheEndOfALongEdgeMatchesTheScalarPath
     ASSERT_FALSE(out.ok[0] && out.needs_polygon_test[0]) << "trial " << trial;
     by_polygon += out.needs_polygon_test[0] != 0;
     ASSERT_TRUE(out.ok[0] || (out.needs_polygon_test[0] && inside)) << "trial " << trial << ": a shallow contact refused";
-    const double batch[6] = {out.area[0], out.chord[0], out.point_x[0], out.point_y[0], out.normal_x[0], out.normal_y[0]};
-    const double reference[6] = {scalar.area, scalar.chord, scalar.point.x(), scalar.point.y(), scalar.normal.x(),
-                                 scalar.normal.y()};
-    for (int m = 0; m < 6; ++m)
+    const double batch[7] = {out.area[0],     out.chord[0],    out.point_x[0],        out.point_y[0],
+                             out.normal_x[0], out.normal_y[0], out.centroid_shift[0]};
+    const double reference[7] = {scalar.area,       scalar.chord,      scalar.point.x(),     scalar.point.y(),
+                                 scalar.normal.x(), scalar.normal.y(), scalar.centroid_shift};
+    for (int m = 0; m < 7; ++m)
       ASSERT_EQ(std::memcmp(&batch[m], &reference[m], sizeof(double)), 0)
           << "trial " << trial << " value " << m << ": " << batch[m] << " against " << reference[m];
   }

@@ -233,7 +233,7 @@ std::vector<std::string> member_dem_files(const EnsembleSpec& ensemble, const st
 
 nlohmann::json summarize_members(const EnsembleSpec& ensemble, const std::string& out_dir) {
   nlohmann::json members = nlohmann::json::array();
-  std::vector<double> left, right, pile_mean, height, lost, wall;
+  std::vector<double> left, right, pile_mean, height, lost, wall, plate_over_weight, plate_dip;
   const auto number_or_null = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); };
   for (std::int64_t seed : ensemble.seeds) {
     const std::string report = (fs::path(member_directory(out_dir, seed)) / "report.json").string();
@@ -244,11 +244,15 @@ nlohmann::json summarize_members(const EnsembleSpec& ensemble, const std::string
     height.push_back(d.height_m);
     lost.push_back(d.lost);
     wall.push_back(d.wall_time_s);
+    plate_over_weight.push_back(d.plate_force_over_weight);
+    plate_dip.push_back(d.plate_force_dip);
     members.push_back({{"seed", seed},
                        {"directory", fs::relative(member_directory(out_dir, seed), out_dir).string()},
                        {"repose_angle_left_deg", number_or_null(d.repose_left_deg)},
                        {"repose_angle_right_deg", number_or_null(d.repose_right_deg)},
                        {"height_m", d.height_m},
+                       {"plate_force_over_weight", number_or_null(d.plate_force_over_weight)},
+                       {"plate_force_dip", number_or_null(d.plate_force_dip)},
                        {"grains", d.grains},
                        {"lost", d.lost},
                        {"wall_time_s", d.wall_time_s}});
@@ -267,6 +271,10 @@ nlohmann::json summarize_members(const EnsembleSpec& ensemble, const std::string
           {"repose_angle_right_deg", statistics(right)},
           {"repose_angle_pile_mean_deg", statistics(pile_mean)},
           {"height_m", statistics(height)},
+          // The plate's load (dem/plate_force.h): its dip statistic, centre |x'| < 0.1 over the
+          // ring 0.15 < |x'| < 0.35, minus 1, and its integral over the weight.
+          {"plate_force_dip", statistics(plate_dip)},
+          {"plate_force_over_weight", statistics(plate_over_weight)},
           {"lost", statistics(lost)},
           {"wall_time_s", statistics(wall)}};
 }

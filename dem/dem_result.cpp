@@ -31,6 +31,16 @@ DemResult dem_result_from_report(const nlohmann::json& report, const std::string
   r.repose_right_deg = number("repose_angle_right_deg", true);
   r.wall_time_s = number("wall_time_s", false);
   r.wall_time_pour_and_settle_s = d.contains("wall_time_pour_and_settle_s") ? number("wall_time_pour_and_settle_s", true) : NAN;
+  r.plate_force_over_weight = d.contains("plate_force_over_weight") ? number("plate_force_over_weight", true) : NAN;
+  if (d.contains("plate_force_dip")) {
+    const nlohmann::json& dip = d["plate_force_dip"];
+    if (!dip.is_object() || !dip.contains("centre_over_ring_minus_1"))
+      throw InputError(source + ": dem.plate_force_dip: expected an object with centre_over_ring_minus_1, found " + dip.dump());
+    const nlohmann::json& v = dip["centre_over_ring_minus_1"];
+    if (!v.is_null() && !v.is_number())
+      throw InputError(source + ": dem.plate_force_dip.centre_over_ring_minus_1: expected a number, found " + v.dump());
+    r.plate_force_dip = v.is_number() ? v.get<double>() : NAN;
+  }
   return r;
 }
 

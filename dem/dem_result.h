@@ -1,4 +1,5 @@
 #pragma once
+#include <cmath>
 // What the later stages take from a DEM run: the measured shape of the pile and what the run
 // cost. Written by `pilelab dem` as the "dem" section of OUT/report.json; this is the one reader
 // of that section, so every stage sees the same values with the same checks.
@@ -19,6 +20,9 @@ struct DemResult {
   double repose_left_deg = 0.0, repose_right_deg = 0.0;  ///< NaN where a flank had too few points
   double wall_time_s = 0.0;     ///< whole run, all sessions
   double wall_time_pour_and_settle_s = 0.0;
+  /// The plate's load over the weight, and its dip statistic (plate_force.h); NaN in reports
+  /// written before they were measured, or where a flank had no angle.
+  double plate_force_over_weight = NAN, plate_force_dip = NAN;
   bool repose_measured() const;  ///< both angles are numbers in (0, 90)
 };
 

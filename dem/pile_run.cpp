@@ -25,6 +25,7 @@
 #include "dem/dem_scene.h"
 #include "dem/pile_protocol.h"
 #include "dem/pile_shape.h"
+#include "dem/plate_force.h"
 #include "dem/thread_binding.h"
 #include "dem/vtk_writer.h"
 
@@ -213,6 +214,20 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["repose_angle_right_deg"] = shape.repose_right_deg;
   r["repose_angle_fit_se_deg"] = {shape.repose_left_se_deg, shape.repose_right_se_deg};
   r["repose_fit_points"] = {shape.left_points, shape.right_points};
+  // The plate's load, binned a grain diameter wide, and the dip statistic of its profile, with
+  // x' measured in the half-width of the wedge of the pile's height and flanks.
+  const double plate_width = scene.container.plate_width;
+  const PlateLoad load = plate_load(w, settled, 0, -0.5 * plate_width, plate_width, scene.grains.mean_diameter);
+  r["plate_force_over_weight"] = load.total_force / load.weight;
+  const double half_width =
+      0.5 * shape.height * (1.0 / std::tan(shape.repose_left_deg * M_PI / 180.0) + 1.0 / std::tan(shape.repose_right_deg * M_PI / 180.0));
+  const DipWindows windows;
+  const double dip = centre_over_ring(load.x, load.load, shape.apex_x, half_width, windows);
+  r["plate_force_dip"] = {{"centre_over_ring_minus_1", std::isfinite(dip) ? nlohmann::json(dip) : nlohmann::json()},
+                          {"half_width_m", std::isfinite(half_width) ? nlohmann::json(half_width) : nlohmann::json()},
+                          {"centre_window_x_over_R", windows.centre},
+                          {"ring_window_x_over_R", {windows.ring_inner, windows.ring_outer}}};
+  r["plate_force_profile"] = {{"bin_width_m", load.bin_width}, {"x_m", load.x}, {"load_N_per_m", load.load}};
   r["simulated_time_s"] = w.time();
   r["steps"] = w.steps();
   r["wall_time_s"] = c.wall_time;

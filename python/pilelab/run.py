@@ -126,6 +126,23 @@ class Run:
         return rows["x_m"], rows["value"], rows["stderr"]
 
 
+    def plate_load(self):
+        """The plate's load as a load cell measures it (the vertical force of the grain-plate
+        contacts per unit length, binned a grain diameter wide; the report's
+        dem.plate_force_profile): x [m], load [N/m], standard error. One pile: its profile, with
+        no error (zeros); an ensemble: the members' mean and its standard error."""
+        piles = [m.report for m in self.members] or [self.report]
+        profiles = [r.get("dem", {}).get("plate_force_profile") for r in piles]
+        if not profiles or any(p is None for p in profiles):
+            raise KeyError(f"{self.path}: a report without dem.plate_force_profile (a pile poured before it was measured)")
+        x = np.asarray(profiles[0]["x_m"], dtype=float)
+        loads = np.array([p["load_N_per_m"] for p in profiles], dtype=float)
+        if loads.shape[1] != x.size:
+            raise ValueError(f"{self.path}: the members' plate profiles have different bins")
+        stderr = loads.std(axis=0, ddof=1) / np.sqrt(len(loads)) if len(loads) > 1 else np.zeros_like(x)
+        return x, loads.mean(axis=0), stderr
+
+
 def load(path):
     """The run in directory path (see Run)."""
     return Run(path)

@@ -36,8 +36,11 @@ void check_consistency(const DemScene& s, const std::string& source) {
   }
   const double half = 0.5 * s.container.plate_width;
   for (double x : {s.pour.funnel_x, end_x})
-    if (std::abs(x) + 0.5 * s.pour.outlet_width >= half) {
-      m << "the funnel outlet reaches x = " << x << " m (dem.pour.funnel_x_m, funnel_speed_m_per_s, funnel_travel_m)"
+    if (std::abs(x) + 0.5 * s.pour.release_width() >= half) {
+      const double edge = x + std::copysign(0.5 * s.pour.release_width(), x == 0.0 ? 1.0 : x);
+      m << "grains are released out to x = " << edge << " m (the "
+        << (s.pour.kind == PourKind::rain ? "rain's edge: dem.pour.rain_width_m" : "outlet's edge: dem.pour.outlet_width_m")
+        << " about x = " << x << " m, from dem.pour.funnel_x_m, funnel_speed_m_per_s, funnel_travel_m)"
         << " but the plate ends at +-" << half << " m (dem.container.plate_width_m)";
       inconsistent(source, m.str());
     }
@@ -72,6 +75,9 @@ DemScene read_dem_scene(SceneReader& r) {
   g.mean_diameter = r.get_double("dem.grains.mean_diameter_m", g.mean_diameter, Range::positive());
   g.polydispersity = r.get_double("dem.grains.polydispersity", g.polydispersity, Range::closed(0.0, 0.9));
   g.corner_jitter = r.get_double("dem.grains.corner_jitter", g.corner_jitter, {0.0, 0.45, false});
+  const std::string placement = r.get_choice("dem.grains.corner_placement", "jittered", {"jittered", "random"});
+  g.corner_placement = placement == "random" ? CornerPlacement::random : CornerPlacement::jittered;
+  g.corner_min_gap = r.get_double("dem.grains.corner_min_gap", g.corner_min_gap, {0.0, 0.9, false});
 
   ContactParameters& c = s.contact;
   c.youngs_modulus = r.get_double("dem.contact.youngs_modulus_N_per_m", c.youngs_modulus, Range::positive());
@@ -101,6 +107,9 @@ DemScene read_dem_scene(SceneReader& r) {
   k.lost_below = r.get_double("dem.container.lost_below_m", k.lost_below, {-1e3, 0.0, false});
 
   PourSpec& p = s.pour;
+  const std::string kind = r.get_choice("dem.pour.kind", "point_source", {"point_source", "rain"});
+  p.kind = kind == "rain" ? PourKind::rain : PourKind::point_source;
+  if (p.kind == PourKind::rain) p.rain_width = r.require_double("dem.pour.rain_width_m", Range::positive());
   p.funnel_height = r.get_double("dem.pour.funnel_height_m", p.funnel_height, Range::positive());
   p.funnel_x = r.get_double("dem.pour.funnel_x_m", p.funnel_x, Range());
   p.funnel_speed = r.get_double("dem.pour.funnel_speed_m_per_s", p.funnel_speed, {-10.0, 10.0, false});
@@ -108,7 +117,9 @@ DemScene read_dem_scene(SceneReader& r) {
   p.inflow_speed = r.get_double("dem.pour.inflow_speed_m_per_s", p.inflow_speed, {0.0, 100.0, false});
   p.rate = r.get_double("dem.pour.rate_grains_per_s", p.rate, Range::positive());
   p.outlet_width = r.get_double("dem.pour.outlet_width_m", p.outlet_width, Range::at_least(0.0));
-  p.funnel_walls = r.get_bool("dem.pour.funnel_walls", p.funnel_walls);
+  p.funnel_walls = r.get_bool("dem.pour.funnel_walls", p.kind == PourKind::point_source);
+  if (p.kind == PourKind::rain && p.funnel_walls)
+    throw InputError(r.source() + ": dem.pour.funnel_walls = true: a rain has no funnel; expected false or no key");
 
   SettleSpec& st = s.settle;
   st.kinetic_energy_per_grain =

@@ -19,15 +19,23 @@ struct ContainerSpec {
   double lost_below = -0.1;        ///< grains whose centre falls below this y are removed [m]
 };
 
+/// How grains enter: from a funnel's outlet (a point source, the paper's), or as a uniform rain
+/// over a width (the construction history that Vanel et al. 1999 found gives no dip).
+enum class PourKind { point_source, rain };
+
 struct PourSpec {
-  double funnel_height = 0.5;        ///< outlet height above the plate [m] (paper: 0.5)
+  PourKind kind = PourKind::point_source;
+  double rain_width = 0.0;           ///< rain: grains released at random x across this width, centred on funnel_x [m]
+  double funnel_height = 0.5;        ///< outlet (or rain) height above the plate [m] (paper: 0.5)
   double funnel_x = 0.0;             ///< outlet position at t = 0 [m]
   double funnel_speed = 0.0;         ///< sideways funnel speed [m/s]; 0: symmetric pile
   double funnel_travel = 0.0;        ///< the funnel stops after moving this far [m]; 0: no limit
   double inflow_speed = 0.2;         ///< downward speed of grains leaving the outlet [m/s] (paper: 0.2)
   double rate = 100.0;               ///< grains per second (at most; a blocked outlet waits)
   double outlet_width = 0.03;        ///< grains leave at a random point across this width [m]
-  bool funnel_walls = true;          ///< immobile funnel walls above the outlet
+  bool funnel_walls = true;          ///< immobile funnel walls above the outlet (a point source only)
+  /// The width across which grains are released [m]: the outlet's, or the rain's.
+  double release_width() const { return kind == PourKind::rain ? rain_width : outlet_width; }
 };
 
 struct SettleSpec {

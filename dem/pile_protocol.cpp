@@ -184,7 +184,7 @@ void PileProtocol::build_container() {
       world_.add_wall(wall, {side * (c.plate_width + c.plate_thickness) / 2, c.side_wall_height / 2}, 0.0);
   }
   const PourSpec& p = scene_.pour;
-  if (p.funnel_walls) {
+  if (p.funnel_walls && p.kind == PourKind::point_source) {
     // Two plates sloping at 60 degrees above the outlet; their lower ends leave a gap one grain
     // wider than the outlet on each side and sit one grain diameter above the insertion height,
     // so that no inserted grain overlaps them.
@@ -237,7 +237,7 @@ void PileProtocol::try_insert() {
   const PourSpec& p = scene_.pour;
   // Draw the exit point and orientation, then insert only if the grain's bounding circle is
   // clear of every other grain, so no insertion starts with an overlap.
-  const Vec2 at(funnel_x(t) + p.outlet_width * (rng_.uniform() - 0.5), p.funnel_height);
+  const Vec2 at(funnel_x(t) + p.release_width() * (rng_.uniform() - 0.5), p.funnel_height);
   const double angle = 2.0 * M_PI * rng_.uniform();
   state_.rng = rng_.state();
   const double r = world_.shape(body).bounding_radius;

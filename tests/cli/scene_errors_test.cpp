@@ -237,7 +237,24 @@ TEST_F(SceneErrors, FunnelOutsideThePlate) {
 
 TEST_F(SceneErrors, MovingFunnelThatWouldLeaveThePlate) {
   expect_error(edited("funnel_height_m = 0.06", "funnel_height_m = 0.06\nfunnel_speed_m_per_s = 3.0"),
-               "the funnel outlet reaches x =");
+               "grains are released out to x =");
+}
+
+TEST_F(SceneErrors, TheErrorNamesTheEdgeOfTheRelease) {
+  // A centred outlet 0.4 m wide on a 0.3 m plate: the error points at its edge, x = 0.2 m.
+  expect_error(edited("outlet_width_m = 0.02", "outlet_width_m = 0.4"),
+               "grains are released out to x = 0.2 m (the outlet's edge: dem.pour.outlet_width_m about x = 0 m");
+}
+
+TEST_F(SceneErrors, ARainWiderThanThePlate) {
+  expect_error(edited("outlet_width_m = 0.02", "kind = \"rain\"\nrain_width_m = 0.5"),
+               "grains are released out to x = 0.25 m (the rain's edge: dem.pour.rain_width_m");
+}
+
+TEST_F(SceneErrors, ARainNeedsItsWidthAndNoFunnel) {
+  expect_error(edited("outlet_width_m = 0.02", "kind = \"rain\""), "dem.pour.rain_width_m");
+  expect_error(edited("outlet_width_m = 0.02", "kind = \"rain\"\nrain_width_m = 0.1\nfunnel_walls = true"),
+               "dem.pour.funnel_walls = true: a rain has no funnel");
 }
 
 TEST_F(SceneErrors, FunnelInsideThePlate) {

@@ -107,3 +107,42 @@ TEST(GrainGenerator, RoundPolygonsHaveCornersOnACircleOfDrawnDiameter) {
   const double sigma = (spec.largest_diameter() - spec.smallest_diameter()) / std::sqrt(12.0);
   EXPECT_NEAR(sum / grains, spec.mean_diameter, 5.0 * sigma / std::sqrt(grains));
 }
+
+// Random corner placement: on 1e5 draws every polygon is convex with no angular gap below the
+// floor, and the gaps follow the conditioned uniform spacings: a gap exceeds floor + y with
+// probability (1 - y / (2 pi - n floor))^(n - 1), checked at the mean gap within 5 standard
+// errors of a binomial count.
+TEST(GrainGenerator, RandomCornersAreConvexWithTheMinimumGapOn1e5Draws) {
+  Rng rng(11);
+  GrainSpec spec;
+  spec.corner_placement = CornerPlacement::random;
+  spec.corners_min = 3;
+  spec.corners_max = 12;
+  spec.polydispersity = 0.45;
+  for (int i = 0; i < 100000; ++i) {
+    const Shape s = random_grain(spec, rng);  // make_polygon throws for a non-convex outline
+    const auto& v = s.vertices;
+    const int n = static_cast<int>(v.size());
+    ASSERT_GE(n, 3);
+    for (int k = 0; k < n; ++k) {
+      const Vec2 e0 = v[(k + 1) % n] - v[k], e1 = v[(k + 2) % n] - v[(k + 1) % n];
+      ASSERT_GT(e0.x() * e1.y() - e0.y() * e1.x(), 0.0) << "draw " << i << ": a corner not strictly convex";
+    }
+  }
+  for (int n : {3, 6, 8}) {
+    const double floor_fraction = 0.25, mean_gap = 2 * M_PI / n, floor = floor_fraction * mean_gap;
+    const int draws = 100000;
+    int above_mean = 0;
+    for (int i = 0; i < draws; ++i) {
+      const std::vector<double> a = random_corner_angles(n, floor_fraction, rng);
+      ASSERT_EQ(static_cast<int>(a.size()), n);
+      for (int k = 0; k < n; ++k) {
+        const double gap = k + 1 < n ? a[k + 1] - a[k] : a[0] + 2 * M_PI - a[k];
+        ASSERT_GE(gap, floor * (1 - 1e-12)) << "n = " << n << ", draw " << i;
+        if (k == 0) above_mean += gap > mean_gap;
+      }
+    }
+    const double p = std::pow(1.0 - (mean_gap - floor) / (2 * M_PI - n * floor), n - 1);
+    EXPECT_NEAR(above_mean, p * draws, 5 * std::sqrt(draws * p * (1 - p))) << "n = " << n;
+  }
+}

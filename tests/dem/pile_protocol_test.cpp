@@ -177,5 +177,40 @@ TEST(PileProtocolStability, ThreeTimesTheLimitStopsNamingTheContactThatSwings) {
   }
 }
 
+TEST(PilePour, ARainDepositsGrainsOnlyWithinItsWidth) {
+  // A rain 0.1 m wide centred at x = 0.05: every grain enters with its centre within the width,
+  // at the release height, falling at the inflow speed; over 300 grains the entry points spread
+  // over the width (both outer tenths reached), and no funnel is built.
+  DemScene scene = small_pile(Scheme::leapfrog);
+  scene.grain_count = 300;
+  scene.pour.kind = PourKind::rain;
+  scene.pour.rain_width = 0.1;
+  scene.pour.funnel_x = 0.05;
+  scene.pour.funnel_walls = false;
+  PileProtocol p(scene, "test");
+  EXPECT_EQ(p.world().wall_count(), 1) << "the plate alone";
+  int seen = 0;
+  double lowest = INFINITY, highest = -INFINITY;
+  while (seen < scene.grain_count && !p.done()) {
+    p.step();
+    const std::vector<int>& active = p.world().active_grains();
+    for (; seen < p.state().poured; ++seen) {
+      const int body = p.world().wall_count() + seen;  // grains enter in body order
+      ASSERT_TRUE(std::find(active.begin(), active.end(), body) != active.end());
+      // Its place one step after entering: the entry point moved by at most v dt + g dt^2.
+      const Vec2 x = p.world().position(body);
+      const double drift = (scene.pour.inflow_speed + 1.0) * p.world().settings().time_step;
+      ASSERT_GE(x.x(), 0.0 - drift);
+      ASSERT_LE(x.x(), 0.1 + drift);
+      ASSERT_NEAR(x.y(), scene.pour.funnel_height, drift);
+      lowest = std::min(lowest, x.x());
+      highest = std::max(highest, x.x());
+    }
+  }
+  EXPECT_EQ(seen, scene.grain_count);
+  EXPECT_LT(lowest, 0.01);
+  EXPECT_GT(highest, 0.09);
+}
+
 }  // namespace
 }  // namespace pilelab::dem

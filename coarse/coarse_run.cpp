@@ -500,17 +500,16 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   // Default kernel width: the RVE radius, so that both windows average over as many grains.
   const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
   check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)");
-  if (settings.method != CoarseSettings::Method::rve)
+  if (settings.method == CoarseSettings::Method::kernel) {
+    const Kernel kernel(kernel_shape(settings.kernel), kernel_width);
     for (Pile& p : piles) {
-      p.kernel = std::make_unique<KernelAverager>(
-          *p.packing, settings.method == CoarseSettings::Method::gaussian ? Kernel::gaussian : Kernel::lucy, kernel_width,
-          domain, settings.clip_volume);
+      p.kernel = std::make_unique<KernelAverager>(*p.packing, kernel, domain, settings.clip_volume);
       if (p.later) {
         p.kernel->set_displacements(*p.later);
-        p.kernel_later =
-            std::make_unique<KernelAverager>(*p.later, p.kernel->kernel(), kernel_width, domain, settings.clip_volume);
+        p.kernel_later = std::make_unique<KernelAverager>(*p.later, kernel, domain, settings.clip_volume);
       }
     }
+  }
   const EnsembleSampler sampler(piles, radius);
 
   // 3. The fields on the mesh (at its nodes or triangle centroids), averaged over the piles.
@@ -528,9 +527,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   write_profile_values(out("profiles.csv"), profile_rows(settings, domain, sampler, set.mean_height, stress_scale));
 
   // 5. The files and the report.
-  const char* methods[] = {"rve", "gaussian", "lucy"};
   FieldsAttributes attributes;
-  attributes.method = methods[static_cast<int>(settings.method)];
+  attributes.method = settings.method == CoarseSettings::Method::rve ? std::string("rve") : settings.kernel;
   attributes.rve_radius_m = radius;
   attributes.kernel_width_m = settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width;
   attributes.piles = static_cast<std::int64_t>(piles.size());

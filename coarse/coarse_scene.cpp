@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "coarse/kernel.h"
 #include "common/error.h"
 
 namespace pilelab::coarse {
@@ -23,10 +24,11 @@ CoarseSettings read_coarse_scene(SceneReader& r, const std::string& scene_dir, c
   if (s.mesh_file.empty()) s.mesh_file = (std::filesystem::path(out_dir) / "pile.msh").string();
   s.location = r.get_choice("coarse.location", "nodes", {"nodes", "cells"}) == "nodes" ? CoarseSettings::Location::nodes
                                                                                       : CoarseSettings::Location::cells;
-  const std::string method = r.get_choice("coarse.method", "rve", {"rve", "gaussian", "lucy"});
-  s.method = method == "rve" ? CoarseSettings::Method::rve
-             : method == "gaussian" ? CoarseSettings::Method::gaussian
-                                    : CoarseSettings::Method::lucy;
+  std::vector<std::string> methods = {"rve"};
+  for (const std::string& k : kernel_names()) methods.push_back(k);
+  const std::string method = r.get_choice("coarse.method", "rve", methods);
+  s.method = method == "rve" ? CoarseSettings::Method::rve : CoarseSettings::Method::kernel;
+  if (s.method == CoarseSettings::Method::kernel) s.kernel = method;
   s.rve_radius_m = r.get_double("coarse.rve_radius_m", 0.0, Range::at_least(0.0));
   s.rve_grain_count = r.get_double("coarse.rve_grain_count", s.rve_grain_count, Range::closed(0.0, 1e5));
   s.clip_volume = r.get_choice("coarse.rve_volume", "clipped", {"clipped", "full"}) == "clipped";

@@ -14,7 +14,9 @@ struct CoarseSettings {
   std::string strain_to = "relaxed";        ///< strain: displacements from snapshot to this one
   std::string mesh_file;                    ///< the triangulation the fields live on
   enum class Location { nodes, cells } location = Location::nodes;
-  enum class Method { rve, gaussian, lucy } method = Method::rve;
+  /// The paper's RVE discs, or a registered kernel (coarse/kernel_registry.cpp) named kernel.
+  enum class Method { rve, kernel } method = Method::rve;
+  std::string kernel;                       ///< the kernel's name, with Method::kernel
   double rve_radius_m = 0.0;                ///< > 0: this radius; 0: from rve_grain_count
   double rve_grain_count = 150.0;           ///< grains per RVE (paper: 100-200); 0: the study's choice
   bool clip_volume = true;                  ///< V = the part of the disc inside the pile

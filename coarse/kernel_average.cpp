@@ -7,37 +7,7 @@
 
 namespace pilelab::coarse {
 
-double kernel_value(Kernel kernel, double r, double w) {
-  if (kernel == Kernel::gaussian) return r < 3 * w ? std::exp(-r * r / (w * w)) / (M_PI * w * w) : 0.0;
-  if (r >= w) return 0.0;
-  const double s = r / w;
-  return 5.0 / (M_PI * w * w) * (1 + 3 * s) * (1 - s) * (1 - s) * (1 - s);
-}
-
-double kernel_support(Kernel kernel, double w) { return kernel == Kernel::gaussian ? 3 * w : w; }
-
 namespace {
-// Phi(r) / r^2, where Phi(r) = int_0^r phi(s) s ds is the kernel's mass within r over 2 pi:
-// written so that it stays exact as r -> 0. Beyond the support Phi is its total.
-double mass_within_over_r2(Kernel kernel, double r, double w) {
-  const double support = kernel_support(kernel, w);
-  if (kernel == Kernel::gaussian) {
-    const double x = std::min(r, support) * std::min(r, support) / (w * w);  // Phi = (1 - e^-x) / 2 pi
-    const double phi = x > 1e-8 ? -std::expm1(-x) / x : 1.0 - 0.5 * x;      // (1 - e^-x) / x
-    return r <= support ? phi / (2 * M_PI * w * w) : -std::expm1(-9.0) / (2 * M_PI * r * r);
-  }
-  if (r >= w) return 0.1 * 5.0 / (M_PI * r * r);  // Phi(w) = 1 / 2 pi
-  // Phi = (5/pi) (s^2/2 - 3 s^4/2 + 8 s^5/5 - s^6/2), s = r / w: the integral of (1+3t)(1-t)^3 t.
-  const double s = r / w;
-  return 5.0 / (M_PI * w * w) * (0.5 + s * s * (-1.5 + s * (1.6 - 0.5 * s)));
-}
-
-// Phi's total, the kernel's whole mass over 2 pi (1 - e^-9 of 1 / 2 pi for the cut Gaussian).
-double total_mass_over_2pi(Kernel kernel, double w) {
-  const double support = kernel_support(kernel, w);
-  return support * support * mass_within_over_r2(kernel, support, w);
-}
-
 // The signed kernel mass in the triangle (point, a, b): in polar coordinates about the point,
 // int dtheta Phi(rho(theta)), or along the edge q(t) = a + t (b - a) - point,
 //   int_0^1 Phi(|q|) / |q|^2 cross(q(0), b - a) dt.
@@ -45,7 +15,7 @@ double total_mass_over_2pi(Kernel kernel, double w) {
 // rest is split where the edge crosses the support's circle, at the edge's point nearest to the
 // point, and into pieces shorter than the kernel width, on which the integrand is smooth, and
 // summed by an 8-point Gauss-Legendre rule.
-double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, const Vec2& b) {
+double triangle_mass(const Kernel& kernel, const Vec2& point, const Vec2& a, const Vec2& b) {
   static const double gx[8] = {0.019855071751231856, 0.10166676129318664, 0.2372337950418355,
                                0.4082826787521751,  0.5917173212478249,  0.7627662049581645,
                                0.8983332387068134,  0.9801449282487681};
@@ -56,7 +26,7 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
   const double c = p.x() * d.y() - p.y() * d.x();  // cross(p, d): twice the triangle's signed area
   const double dd = d.squaredNorm();
   if (dd == 0.0 || c == 0.0) return 0.0;
-  const double support = kernel_support(kernel, w), phi_total = total_mass_over_2pi(kernel, w);
+  const double w = kernel.width(), support = kernel.support(), phi_total = kernel.total_mass_over_2pi();
   const auto angle = [&](double t0, double t1) {  // signed angle swept from q(t0) to q(t1)
     const Vec2 q0 = p + t0 * d, q1 = p + t1 * d;
     return std::atan2(q0.x() * q1.y() - q0.y() * q1.x(), q0.dot(q1));
@@ -83,7 +53,7 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
     for (int k = 0; k < pieces; ++k)
       for (int i = 0; i < 8; ++i) {
         const Vec2 q = p + (t0 + (k + gx[i]) * step) * d;
-        sum += gw[i] * step * mass_within_over_r2(kernel, q.norm(), w);
+        sum += gw[i] * step * kernel.mass_within_over_r2(q.norm());
       }
     return sum * c;
   };
@@ -97,9 +67,9 @@ double triangle_mass(Kernel kernel, double w, const Vec2& point, const Vec2& a, 
 }
 }  // namespace
 
-double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width, const Vec2& point) {
+double kernel_mass_fraction_in(const Domain& domain, const Kernel& kernel, const Vec2& point) {
   if (domain.empty()) return 1.0;
-  const double support = kernel_support(kernel, width);
+  const double support = kernel.support();
   // Wholly inside: no edge comes within the support (and the point is inside).
   bool near_edge = false;
   for (const auto& [a, b] : domain.edges) {
@@ -112,15 +82,14 @@ double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width
   }
   if (!near_edge) return domain.contains(point) ? 1.0 : 0.0;
   double mass = 0.0;
-  for (const auto& [a, b] : domain.edges) mass += triangle_mass(kernel, width, point, a, b);
-  return std::clamp(mass / (2 * M_PI * total_mass_over_2pi(kernel, width)), 0.0, 1.0);
+  for (const auto& [a, b] : domain.edges) mass += triangle_mass(kernel, point, a, b);
+  return std::clamp(mass / (2 * M_PI * kernel.total_mass_over_2pi()), 0.0, 1.0);
 }
 
-KernelAverager::KernelAverager(const Packing& packing, Kernel kernel, double width, Domain domain, bool clip_volume)
+KernelAverager::KernelAverager(const Packing& packing, const Kernel& kernel, Domain domain, bool clip_volume)
     : packing_(packing),
       kernel_(kernel),
-      width_(width),
-      support_(kernel_support(kernel, width)),
+      support_(kernel.support()),
       domain_(std::move(domain)),
       clip_volume_(clip_volume) {
   const std::size_t n = packing.grains.size();
@@ -151,7 +120,7 @@ void KernelAverager::set_displacements(const Packing& later) {
 }
 
 double KernelAverager::normalisation(const Vec2& point) const {
-  return clip_volume_ ? kernel_mass_fraction_in(domain_, kernel_, width_, point) : 1.0;
+  return clip_volume_ ? kernel_mass_fraction_in(domain_, kernel_, point) : 1.0;
 }
 
 double KernelAverager::density(const Vec2& point) const {

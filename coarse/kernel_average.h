@@ -21,41 +21,35 @@
 //   f(r) = int_domain phi(r - y) dy / int_plane phi,
 // as the RVE divides by the part of its disc inside the pile. f = 1 wherever the kernel's
 // support lies inside, so there the fields and the momentum balance above are unchanged.
+#include "coarse/kernel.h"
 #include "coarse/rve_average.h"
 
 namespace pilelab::coarse {
 
-enum class Kernel { gaussian, lucy };
-
-/// The normalised kernel at distance r: Gaussian exp(-r^2/w^2)/(pi w^2), cut at 3w; Lucy
-/// (5/(pi w^2)) (1 + 3r/w)(1 - r/w)^3 for r < w.
-double kernel_value(Kernel kernel, double r, double width);
-double kernel_support(Kernel kernel, double width);
-
 /// The fraction of the kernel's mass about point that lies inside the domain (1 for an empty
 /// domain, the whole plane). Exact up to a Gauss-Legendre rule on smooth pieces: it agrees
 /// with direct two-dimensional quadrature to that quadrature's error (3e-8).
-double kernel_mass_fraction_in(const Domain& domain, Kernel kernel, double width, const Vec2& point);
+double kernel_mass_fraction_in(const Domain& domain, const Kernel& kernel, const Vec2& point);
 
 class KernelAverager {
  public:
   /// With a domain and clip_volume, the densities are divided by the kernel's mass fraction
   /// inside the domain (see above); without, they are the plain kernel sums.
-  KernelAverager(const Packing& packing, Kernel kernel, double width, Domain domain = {}, bool clip_volume = true);
+  KernelAverager(const Packing& packing, const Kernel& kernel, Domain domain = {}, bool clip_volume = true);
   void set_displacements(const Packing& later);
   /// The fields at a point, in the RveSample layout (volume is 0: the kernel has no edge;
   /// grain_count counts the grains within the kernel's support).
   RveSample average(const Vec2& point) const;
   double density(const Vec2& point) const;
-  Kernel kernel() const { return kernel_; }
+  const Kernel& kernel() const { return kernel_; }
 
  private:
-  double phi(const Vec2& d) const { return kernel_value(kernel_, d.norm(), width_); }
+  double phi(const Vec2& d) const { return kernel_.value(d.norm()); }
   /// What the densities at point are divided by: the kernel's mass fraction in the domain, or 1.
   double normalisation(const Vec2& point) const;
   const Packing& packing_;
   Kernel kernel_;
-  double width_, support_;
+  double support_;
   Domain domain_;
   bool clip_volume_ = true;
   double max_bounding_radius_ = 0.0;

@@ -13,7 +13,7 @@
 namespace pilelab {
 
 struct FieldsAttributes {
-  std::string method = "rve";      ///< the averaging window: "rve", "gaussian" or "lucy"
+  std::string method = "rve";      ///< the averaging window: "rve" or a registered kernel's name (coarse/kernel_registry.cpp)
   double rve_radius_m = 0.0;       ///< the RVE's radius; 0: none (a user's own fields)
   double kernel_width_m = 0.0;     ///< the kernel's width; 0 for RVEs
   std::int64_t piles = 1;          ///< piles averaged (an ensemble's members)

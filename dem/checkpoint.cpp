@@ -25,7 +25,8 @@ namespace pilelab::dem {
 //   /protocol attrs        phase, phase_start, poured, lost, next_insert_time, last_insert_time,
 //                          pour_stalled, lost_energy_J (optional; 0 if absent); /protocol/rng (4 words)
 //   /counters attrs        particle_steps, wall_time, checkpoints, snapshots,
-//                          last_checkpoint_time, wall_time_settled, cpu_time; /counters/frame_times
+//                          last_checkpoint_time, wall_time_settled, cpu_time, neighbour_builds,
+//                          profile_{move,broad_phase,narrow_phase,gather_correct}_s; /counters/frame_times
 
 namespace {
 std::string snapshots_path(const std::string& checkpoint) {
@@ -139,6 +140,11 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "last_checkpoint_time", counters.last_checkpoint_time);
     f.set_attribute("/counters", "wall_time_settled", counters.wall_time_settled);
     f.set_attribute("/counters", "cpu_time", counters.cpu_time);
+    f.set_attribute("/counters", "neighbour_builds", counters.neighbour_builds);
+    f.set_attribute("/counters", "profile_move_s", counters.profile.move);
+    f.set_attribute("/counters", "profile_broad_phase_s", counters.profile.broad_phase);
+    f.set_attribute("/counters", "profile_narrow_phase_s", counters.profile.narrow_phase);
+    f.set_attribute("/counters", "profile_gather_correct_s", counters.profile.gather_correct);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
     f.close();
@@ -291,6 +297,13 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
   counters.last_checkpoint_time = f.attribute_double("/counters", "last_checkpoint_time");
   counters.wall_time_settled = f.attribute_double("/counters", "wall_time_settled");
   counters.cpu_time = f.has_attribute("/counters", "cpu_time") ? f.attribute_double("/counters", "cpu_time") : 0.0;
+  if (f.has_attribute("/counters", "neighbour_builds")) {  // older builds' checkpoints have none
+    counters.neighbour_builds = f.attribute_int("/counters", "neighbour_builds");
+    counters.profile.move = f.attribute_double("/counters", "profile_move_s");
+    counters.profile.broad_phase = f.attribute_double("/counters", "profile_broad_phase_s");
+    counters.profile.narrow_phase = f.attribute_double("/counters", "profile_narrow_phase_s");
+    counters.profile.gather_correct = f.attribute_double("/counters", "profile_gather_correct_s");
+  }
   counters.frame_times = f.read_doubles("/counters/frame_times");
 }
 

@@ -21,6 +21,10 @@ struct RunCounters {
   /// whatever else shares the machine); a run resumed from a checkpoint without it (older
   /// builds') counts only its later sessions.
   double cpu_time = 0.0;
+  /// Neighbour-list builds and the step's phase times [s] over all sessions up to the last
+  /// checkpoint (a run resumed from an older build's checkpoint counts only its later sessions).
+  std::int64_t neighbour_builds = 0;
+  StepProfile profile;
 };
 
 void write_checkpoint(const std::string& path, const std::string& scene_text, const PileProtocol& protocol,

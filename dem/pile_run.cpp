@@ -201,7 +201,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   // The pile is measured as it settled under full gravity, before any relaxation.
   const Snapshot& settled = p.snapshots().front();
   const PileShape shape = measure_pile(w, settled, 2.0 * scene.grains.mean_diameter);
-  const StepProfile& prof = w.profile();
+  const StepProfile& prof = c.profile;
   nlohmann::json r;
   r["seed"] = scene.seed;
   r["particles"] = w.active_grains().size();
@@ -264,7 +264,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
                     {"broad_phase", prof.broad_phase},
                     {"narrow_phase", prof.narrow_phase},
                     {"gather_correct", prof.gather_correct}};
-  r["neighbour_list_builds"] = w.neighbour_builds();
+  r["neighbour_list_builds"] = c.neighbour_builds;
   return r;
 }
 }  // namespace
@@ -337,6 +337,17 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   const double wall_before = counters.wall_time;
   const double cpu_start = process_cpu_seconds(), cpu_before = counters.cpu_time;
   const auto cpu_elapsed = [&] { return process_cpu_seconds() - cpu_start; };
+  // Every counter the report gives is the whole run's: the sessions before this one, plus it.
+  const std::int64_t builds_before = counters.neighbour_builds;
+  const StepProfile profile_before = counters.profile;
+  const auto count_this_session = [&] {
+    counters.wall_time = wall_before + elapsed();
+    counters.cpu_time = cpu_before + cpu_elapsed();
+    counters.neighbour_builds = builds_before + world.neighbour_builds();
+    const StepProfile& p = world.profile();
+    counters.profile = {profile_before.move + p.move, profile_before.broad_phase + p.broad_phase,
+                        profile_before.narrow_phase + p.narrow_phase, profile_before.gather_correct + p.gather_correct};
+  };
 
   while (!protocol.done()) {
     protocol.step();
@@ -354,8 +365,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     if (due || stop_now) {
       ++counters.checkpoints;
       counters.last_checkpoint_time = world.time();
-      counters.wall_time = wall_before + elapsed();
-      counters.cpu_time = cpu_before + cpu_elapsed();
+      count_this_session();
       write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
     }
     if (interrupted) {
@@ -385,8 +395,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
       }
     }
   }
-  counters.wall_time = wall_before + elapsed();
-  counters.cpu_time = cpu_before + cpu_elapsed();
+  count_this_session();
   frames.write(world, counters.frame_times);
 
   nlohmann::json run_info;

@@ -60,11 +60,14 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 }
 
 namespace {
-// The PID of NAME.tmp.PID, or 0 when the name is not of that form.
+// The PID of NAME.tmp.PID, or of NAME.tmp.PID.EXT (a library that picks its format from the
+// extension, as gmsh does, writes that), or 0 when the name is of neither form.
 pid_t temporary_file_owner(const std::string& name) {
   const std::size_t dot = name.rfind(".tmp.");
   if (dot == std::string::npos) return 0;
-  const std::string digits = name.substr(dot + 5);
+  std::string digits = name.substr(dot + 5);
+  const std::size_t extension = digits.find('.');
+  if (extension != std::string::npos) digits.resize(extension);
   if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
   return static_cast<pid_t>(std::stol(digits));
 }

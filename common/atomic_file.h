@@ -15,7 +15,7 @@ void write_text_atomically(const std::string& path, const std::string& text);
 
 /// Makes dir (and its parents) and proves it writable by creating and removing a probe file,
 /// so that a run learns at its start, not after hours, that its outputs cannot be written.
-/// Removes temporary files (NAME.tmp.PID) that dead processes left in dir. Throws InputError
+/// Removes temporary files (NAME.tmp.PID, NAME.tmp.PID.EXT) that dead processes left in dir. Throws InputError
 /// naming the directory and the system's reason.
 void prepare_output_directory(const std::string& dir);
 

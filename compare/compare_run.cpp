@@ -585,7 +585,7 @@ nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_
   problem.density_kg_per_m2 = fields.rho_bulk_kg_per_m2;
   problem.gravity_m_per_s2 = fields.gravity_m_per_s2;
   const std::string dir = in_dir(out_dir, "closed_loop");
-  std::filesystem::create_directories(dir);
+  prepare_output_directory(dir);  // also clears what a killed run left there
   solve(problem, dir);
   result.update(compare_displacements(fields_path, in_dir(dir, "models.h5"), "elastic"));
   result["lame_lambda_used_N_per_m"] = problem.lame_lambda_N_per_m;

@@ -173,6 +173,21 @@ void generate_and_write(const std::string& tmp) {
   // gmsh picks the format from the extension, so write X.msh and move it to the temporary name.
   const std::string with_extension = tmp + ".msh";
   gmsh::write(with_extension);
+  // gmsh does not report a failed write (a full disk truncates the file silently): a complete
+  // MSH file ends with its elements' section, so check that before the file goes anywhere.
+  std::ifstream written(with_extension, std::ios::binary | std::ios::ate);
+  const std::string ending = "$EndElements\n";
+  std::string tail(ending.size(), '\0');
+  const std::streamoff size = written ? static_cast<std::streamoff>(written.tellg()) : -1;
+  if (size >= static_cast<std::streamoff>(ending.size())) {
+    written.seekg(size - static_cast<std::streamoff>(ending.size()));
+    written.read(tail.data(), static_cast<std::streamsize>(ending.size()));
+  }
+  if (!written || tail != ending) {
+    std::remove(with_extension.c_str());
+    throw InputError("cannot write " + with_extension + ": gmsh wrote " + (size < 0 ? std::string("nothing") : std::to_string(size) + " bytes") +
+                     " and the file does not end with $EndElements (is the disk full?); the previous mesh is kept");
+  }
   std::filesystem::rename(with_extension, tmp);
 }
 

@@ -141,11 +141,16 @@ TEST_F(AtomicFile, TemporaryFilesOfDeadProcessesAreRemoved) {
   if (child == 0) ::_exit(0);
   ::waitpid(child, nullptr, 0);  // now dead: its PID names no process (until reused, rarely soon)
   const std::string dead = path("dem.h5.tmp." + std::to_string(child));
+  // gmsh picks its format from the extension, so the mesh stage's temporary carries one.
+  const std::string dead_with_extension = path("pile.msh.tmp." + std::to_string(child) + ".msh");
   const std::string alive = path("dem.h5.tmp." + std::to_string(::getppid()));
+  const std::string alive_with_extension = path("pile.msh.tmp." + std::to_string(::getppid()) + ".msh");
   const std::string lookalike = path("notes.tmp.draft");
-  for (const auto& f : {dead, alive, lookalike}) std::ofstream(f) << "half";
+  for (const auto& f : {dead, dead_with_extension, alive, alive_with_extension, lookalike}) std::ofstream(f) << "half";
   prepare_output_directory(dir_.string());
   EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(dead_with_extension));
   EXPECT_TRUE(fs::exists(alive));
+  EXPECT_TRUE(fs::exists(alive_with_extension));
   EXPECT_TRUE(fs::exists(lookalike));
 }

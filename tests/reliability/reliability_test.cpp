@@ -4,6 +4,8 @@
 // empty scene.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "../cli/cli_test_support.h"
 
@@ -12,6 +14,10 @@ using pilelab::test::tiny_scene;
 
 class Reliability : public CliTest {
  protected:
+  static std::string read_file(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
   // No temporary file of a writer is left behind.
   void expect_no_temporary_files(const std::string& dir) {
     if (!std::filesystem::exists(dir)) return;
@@ -135,4 +141,33 @@ TEST_F(Reliability, AnInterruptedPourWritesACheckpointAndSaysHowToContinue) {
   ASSERT_EQ(run("dem " + scene + " -o " + out + " -q -j 1 --restart").exit_code, 0);
   EXPECT_EQ(std::system(("cmp -s " + out + "/dem.h5 " + path("unbroken") + "/dem.h5").c_str()), 0)
       << "the continued run differs from the unbroken one";
+}
+
+TEST_F(Reliability, AFullDiskDuringMeshKeepsTheGoodMesh) {
+  // A pile meshed once; then its folder on a tmpfs with 8 KiB left, and the mesh asked again:
+  // gmsh's write is cut short without a word, so the stage must find the file incomplete, say
+  // so naming it, exit 2 and leave the first pile.msh as it was, with no temporary file.
+  const std::string scene =
+      write_scene("tiny.toml", tiny_scene() + "\n[mesh]\nkind = \"dem_outline\"\nelement_size_m = 0.002\n");
+  const std::string first = path("first");
+  ASSERT_EQ(run("dem " + scene + " -o " + first + " -q -j 1").exit_code, 0);
+  ASSERT_EQ(run("mesh " + scene + " -o " + first).exit_code, 0);
+  const std::string good = read_file(first + "/pile.msh");
+  ASSERT_GT(good.size(), 16384u) << "the mesh must be larger than what the disk leaves room for";
+  const MountedTmpfs disk(path("disk"), "size=4m");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  const std::string out = path("disk/out");
+  std::filesystem::copy(first, out, std::filesystem::copy_options::recursive);
+  const std::uintmax_t room = std::filesystem::space(out).available;
+  ASSERT_GT(room, 8192u);
+  {
+    std::ofstream filler(path("disk/filler"), std::ios::binary);
+    const std::string block(4096, '\0');
+    for (std::uintmax_t n = 0; n + 8192 < room; n += block.size()) filler << block;
+  }
+  const auto r = run("mesh " + scene + " -o " + out);
+  EXPECT_EQ(r.exit_code, 2) << "expected a clear error (exit code 2):\n" << r.output;
+  EXPECT_NE(r.output.find("pile.msh"), std::string::npos) << "the message should name the file:\n" << r.output;
+  EXPECT_TRUE(read_file(out + "/pile.msh") == good) << "the good mesh was replaced";
+  expect_no_temporary_files(out);
 }

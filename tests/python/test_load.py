@@ -51,6 +51,20 @@ class LoadTinyPipeline(unittest.TestCase):
             self.assertTrue(np.all(c.pair[~grains, column] < self.result.dem.wall_count))
         self.assertTrue(np.all(c.grain_b >= 0), "b is never a wall (walls have the lower indices)")
 
+    def test_plate_load_integrates_to_the_plate_force_the_report_gives(self):
+        # The profile that plate_load() returns integrates to the grain-plate contacts' vertical
+        # force, which the report gives over the weight; both from the settled snapshot.
+        x, load, stderr = self.result.plate_load()
+        d = self.result.report["dem"]
+        width = d["plate_force_profile"]["bin_width_m"]
+        s = self.result.dem.snapshot("settled")
+        weight = self.result.dem.bodies["mass"][s.body].sum() * s.gravity_m_per_s2
+        on_plate = s.contacts.pair[:, 0] == 0
+        self.assertAlmostEqual(load.sum() * width / weight, d["plate_force_over_weight"], delta=1e-12)
+        self.assertAlmostEqual(s.contacts.force[on_plate, 1].sum() / weight, d["plate_force_over_weight"], delta=1e-12)
+        self.assertEqual(x.shape, load.shape)
+        np.testing.assert_array_equal(stderr, 0.0)  # one pile: no spread
+
     def test_contact_forces_sum_to_the_walls_force(self):
         # Newton's third law: the grains' contact forces between themselves cancel, so the sum of
         # every grain's contact_force (written by the C++) equals the force of the walls on the

@@ -21,7 +21,7 @@ struct ContactLanes {
   Double4 inverse_mass_a, inverse_mass_b;        ///< [1/kg], 0 for a wall
   Double4 inverse_inertia_a, inverse_inertia_b;  ///< [1/(kg m^2)], 0 for a wall
   Double4 lever_floor_a, lever_floor_b;  ///< half each body's inner radius [m]: the levers' floor
-  Mask4 a_is_wall;                       ///< a wall's lever is infinite (World's contact law)
+  Mask4 a_has_no_lever;                  ///< a is a flat wall, whose lever is infinite (World's contact law)
   /// The last step's spring force [N] and normal, 0 for a contact that did not touch then.
   Double4 old_spring, old_normal_x, old_normal_y;
 };
@@ -48,7 +48,7 @@ struct ContactLaneForces {
   const Double4 dux = uax - ubx, duy = uay - uby;
   const Double4 ra2 = rax * rax + ray * ray, rb2 = rbx * rbx + rby * rby;
   const Double4 infinite = {INFINITY, INFINITY, INFINITY, INFINITY};
-  const Double4 lever_a = in.a_is_wall ? infinite : lane_max(lane_sqrt(ra2), in.lever_floor_a);
+  const Double4 lever_a = in.a_has_no_lever ? infinite : lane_max(lane_sqrt(ra2), in.lever_floor_a);
   const Double4 lever_b = lane_max(lane_sqrt(rb2), in.lever_floor_b);
   const Double4 approach_speed = nx * dux + ny * duy;
   const Double4 slip_speed = -ny * dux + nx * duy;

@@ -100,6 +100,7 @@ DemScene read_dem_scene(SceneReader& r) {
       r.get_double("dem.integrator.neighbour_skin_fraction", s.neighbour_skin_fraction, {0.0, 10.0, true});
 
   ContainerSpec& k = s.container;
+  k.base = r.get_choice("dem.container.base", "flat", {"flat", "grains"}) == "grains" ? BaseKind::grains : BaseKind::flat;
   k.plate_width = r.get_double("dem.container.plate_width_m", k.plate_width, Range::positive());
   k.plate_thickness = r.get_double("dem.container.plate_thickness_m", k.plate_thickness, Range::positive());
   k.side_walls = r.get_bool("dem.container.side_walls", k.side_walls);

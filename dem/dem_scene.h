@@ -11,7 +11,12 @@
 
 namespace pilelab::dem {
 
+/// What the pile stands on: the flat plate, or a row of immobile grains laid on it (the paper's
+/// base of "specially shaped particles"), drawn like the pile's grains.
+enum class BaseKind { flat, grains };
+
 struct ContainerSpec {
+  BaseKind base = BaseKind::flat;
   double plate_width = 2.0;        ///< ground plate length [m]; its top surface is y = 0
   double plate_thickness = 0.02;   ///< [m]
   bool side_walls = false;         ///< vertical walls at both plate ends

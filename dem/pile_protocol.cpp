@@ -198,6 +198,37 @@ void PileProtocol::build_container() {
       funnel_walls_.push_back(world_.add_wall(plate, centre, side * slope, {p.funnel_speed, 0.0}));
     }
   }
+  base_bodies_ = {0};
+  if (c.base == BaseKind::grains) lay_base_grains();
+}
+
+void PileProtocol::lay_base_grains() {
+  // Grains drawn like the pile's from a stream of their own (the pour's is untouched), each
+  // turned at random and set down on the plate, lowest point at y = 0, side by side from the
+  // plate's left end with a gap of a hundredth of a grain, as many as fit.
+  Rng rng(scene_.seed ^ 0xba5eba5eba5eba5eULL);
+  const double half = 0.5 * scene_.container.plate_width, gap = 0.01 * scene_.grains.mean_diameter;
+  double left = -half;
+  while (true) {
+    const Shape shape = random_grain(scene_.grains, rng);
+    const double angle = 2.0 * M_PI * rng.uniform();
+    double lo_x = -shape.radius, hi_x = shape.radius, lo_y = -shape.radius;
+    if (shape.kind == ShapeKind::polygon) {
+      lo_x = lo_y = INFINITY;
+      hi_x = -INFINITY;
+      double sine, cosine;
+      portable_sincos(angle, sine, cosine);
+      for (const Vec2& v : shape.vertices) {
+        const Vec2 turned(cosine * v.x() - sine * v.y(), sine * v.x() + cosine * v.y());
+        lo_x = std::min(lo_x, turned.x());
+        hi_x = std::max(hi_x, turned.x());
+        lo_y = std::min(lo_y, turned.y());
+      }
+    }
+    if (left + (hi_x - lo_x) > half) break;
+    base_bodies_.push_back(world_.add_fixed_grain(shape, {left - lo_x, -lo_y}, angle));
+    left += (hi_x - lo_x) + gap;
+  }
 }
 
 std::string PileProtocol::body_name(int body) const {
@@ -206,6 +237,8 @@ std::string PileProtocol::body_name(int body) const {
     what = "the plate";
   } else if (scene_.container.side_walls && (body == 1 || body == 2)) {
     what = body == 1 ? "the left side wall" : "the right side wall";
+  } else if (body > 0 && std::binary_search(base_bodies_.begin(), base_bodies_.end(), body)) {
+    what = "a grain of the base";
   } else if (!funnel_walls_.empty() && (body == funnel_walls_.front() || body == funnel_walls_.back())) {
     what = body == funnel_walls_.front() ? "the funnel's left plate" : "the funnel's right plate";
   }

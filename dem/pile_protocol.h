@@ -70,6 +70,8 @@ class PileProtocol {
 
   World& world() { return world_; }
   const World& world() const { return world_; }
+  /// The bodies the pile stands on: the plate (body 0) and the base's fixed grains, ascending.
+  const std::vector<int>& base_bodies() const { return base_bodies_; }
   const DemScene& scene() const { return scene_; }
   const TimeStepBound& time_step_bound() const { return bound_; }
   /// The bound again for contacts as deep as the deepest overlap the run has reached
@@ -115,6 +117,7 @@ class PileProtocol {
 
  private:
   void build_container();
+  void lay_base_grains();  ///< the base of fixed grains (ContainerSpec::base)
   void try_insert();
   void check_state_is_finite() const;  ///< throws, naming the first grain that is not
   void check_energy_is_bounded() const;  ///< throws, naming the time, step and fastest grain
@@ -132,6 +135,7 @@ class PileProtocol {
   Rng rng_;
   std::vector<int> funnel_walls_;
   int first_grain_ = 0;
+  std::vector<int> base_bodies_;
   std::vector<Snapshot> snapshots_;
   std::vector<WallPlacement> wall_placements_;
 };

@@ -214,10 +214,12 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["repose_angle_right_deg"] = shape.repose_right_deg;
   r["repose_angle_fit_se_deg"] = {shape.repose_left_se_deg, shape.repose_right_se_deg};
   r["repose_fit_points"] = {shape.left_points, shape.right_points};
-  // The plate's load, binned a grain diameter wide, and the dip statistic of its profile, with
+  // The load on the plate (and the base's grains, if any), binned a grain diameter wide, and the
+  // dip statistic of its profile, with
   // x' measured in the half-width of the wedge of the pile's height and flanks.
   const double plate_width = scene.container.plate_width;
-  const PlateLoad load = plate_load(w, settled, 0, -0.5 * plate_width, plate_width, scene.grains.mean_diameter);
+  const PlateLoad load =
+      plate_load(w, settled, p.base_bodies(), -0.5 * plate_width, plate_width, scene.grains.mean_diameter);
   r["plate_force_over_weight"] = load.total_force / load.weight;
   const double half_width =
       0.5 * shape.height * (1.0 / std::tan(shape.repose_left_deg * M_PI / 180.0) + 1.0 / std::tan(shape.repose_right_deg * M_PI / 180.0));

@@ -1,20 +1,21 @@
 #include "dem/plate_force.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pilelab::dem {
 
-PlateLoad plate_load(const World& world, const Snapshot& snapshot, int plate, double plate_left, double plate_width,
-                     double bin_width) {
+PlateLoad plate_load(const World& world, const Snapshot& snapshot, const std::vector<int>& base, double plate_left,
+                     double plate_width, double bin_width) {
   PlateLoad p;
   p.bin_width = bin_width;
   const int bins = std::max(1, static_cast<int>(std::ceil(plate_width / bin_width)));
   p.load.assign(bins, 0.0);
   for (int i = 0; i < bins; ++i) p.x.push_back(plate_left + (i + 0.5) * bin_width);
-  // A contact's force on b is `force`; the plate is the lower body of its pairs (walls come
-  // first), so the grain presses it down with the grain's upward force.
+  // A contact's force on b is `force`; a base body is a wall, the lower body of its pairs (walls
+  // come first), so the grain presses it down with the grain's upward force.
   for (std::size_t c = 0; c < snapshot.contact_count_total(); ++c) {
-    if (snapshot.pair[2 * c] != plate) continue;
+    if (!std::binary_search(base.begin(), base.end(), static_cast<int>(snapshot.pair[2 * c]))) continue;
     const double down = snapshot.force[2 * c + 1];
     p.total_force += down;
     const int bin = static_cast<int>(std::floor((snapshot.point[2 * c] - plate_left) / bin_width));

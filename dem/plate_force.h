@@ -17,10 +17,11 @@ struct PlateLoad {
   double weight = 0.0;          ///< sum of m g over the snapshot's grains [N]
 };
 
-/// The plate's load at a snapshot (the weight under the snapshot's gravity): `plate` is the
-/// plate's body index, `plate_left` and `plate_width` [m] where its bins lie.
-PlateLoad plate_load(const World& world, const Snapshot& snapshot, int plate, double plate_left, double plate_width,
-                     double bin_width);
+/// The load at a snapshot of the bodies the pile stands on (`base`, ascending: the plate, and a
+/// base of fixed grains if there is one), with the weight under the snapshot's gravity;
+/// `plate_left` and `plate_width` [m] say where the bins lie.
+PlateLoad plate_load(const World& world, const Snapshot& snapshot, const std::vector<int>& base, double plate_left,
+                     double plate_width, double bin_width);
 
 /// The dip statistic used everywhere (the tables, the figures, the report): the mean load over
 /// the centre |x'| < centre_window over its mean over the ring ring_inner < |x'| < ring_outer,

@@ -112,8 +112,15 @@ int World::add_wall(const Shape& shape, const Vec2& position, double angle, cons
   motion_.d[1][3 * id + 1] = velocity.y();
   if (velocity.squaredNorm() > 0) moving_walls_.push_back(id);
   ++wall_count_;
+  wall_is_flat_.push_back(1);
   place_body(id);
   neighbours_stale_ = true;
+  return id;
+}
+
+int World::add_fixed_grain(const Shape& shape, const Vec2& position, double angle) {
+  const int id = add_wall(shape, position, angle);
+  wall_is_flat_[id] = 0;
   return id;
 }
 
@@ -833,6 +840,7 @@ void World::collide_and_compute_forces() {
   const Vec2* const wall_lo = wall_lo_.data();
   const Vec2* const wall_hi = wall_hi_.data();
   const int wall_count = wall_count_;
+  const std::uint8_t* const wall_is_flat = wall_is_flat_.data();
   std::uint8_t* const pair_touching = pair_touching_.data();
   std::uint8_t* const pair_swing = pair_swing_.data();
   OverlapHint* const hints = pair_hint_.data();
@@ -956,7 +964,9 @@ void World::collide_and_compute_forces() {
       const Double4 inner_b = lanes_of([&](int k) { return geometry[b[k]].inner_radius; });
       in.lever_floor_a = 0.5 * inner_a;
       in.lever_floor_b = 0.5 * inner_b;
-      in.a_is_wall = Mask4{a[0] < wall_count, a[1] < wall_count, a[2] < wall_count, a[3] < wall_count} * -1;
+      in.a_has_no_lever = Mask4{a[0] < wall_count && wall_is_flat[a[0]], a[1] < wall_count && wall_is_flat[a[1]],
+                                a[2] < wall_count && wall_is_flat[a[2]], a[3] < wall_count && wall_is_flat[a[3]]} *
+                          -1;
       const Mask4 continues =
           Mask4{pair_touching[q[0]], pair_touching[q[1]], pair_touching[q[2]], pair_touching[q[3]]} != 0;
       const Double4 zero = {0.0, 0.0, 0.0, 0.0};
@@ -984,7 +994,7 @@ void World::collide_and_compute_forces() {
       Double4 depth = 2.0 * in.area / in.chord;
       if (!(has_chord[0] & has_chord[1] & has_chord[2] & has_chord[3]))
         depth = has_chord ? depth : lane_sqrt(in.area);
-      const Double4 inner = in.a_is_wall ? inner_b : lane_min(inner_a, inner_b);
+      const Double4 inner = in.a_has_no_lever ? inner_b : lane_min(inner_a, inner_b);
       const Double4 fraction = depth / inner;
 
       for (std::size_t lane = 0; lane < 4; ++lane) {

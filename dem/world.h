@@ -117,6 +117,12 @@ class World {
   /// Walls: immobile (or moving at a prescribed velocity) bodies of any size. All walls must
   /// be added before the first grain.
   int add_wall(const Shape& shape, const Vec2& position, double angle, const Vec2& velocity = {0, 0});
+  /// A grain held in place (a base of immobile grains): a wall in every respect but the contact
+  /// length, where its lever counts as a grain's (l = r_a r_b / (r_a + r_b)); a flat wall's lever
+  /// is infinite. Added among the walls, before the first grain.
+  int add_fixed_grain(const Shape& shape, const Vec2& position, double angle);
+  /// Whether a wall is flat (its lever infinite in the contact length) or a fixed grain.
+  bool is_flat_wall(int body) const { return body < wall_count_ && wall_is_flat_[body] != 0; }
   /// Grains: mobile bodies with mass from the areal density [kg/m^2]; inactive until activated.
   int add_grain(const Shape& shape, double areal_density);
   /// Puts an inactive grain into the world with the given state.
@@ -231,6 +237,7 @@ class World {
 
   WorldSettings settings_;
   int wall_count_ = 0;
+  std::vector<std::uint8_t> wall_is_flat_;  // per wall (walls keep their slots): 0 for a fixed grain
   // Where each body is stored, and which body each slot holds (walls: their own index). Every
   // array below that is per body is per slot, and the pair list holds slots.
   std::vector<int> slot_of_, body_at_;

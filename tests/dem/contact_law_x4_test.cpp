@@ -17,7 +17,7 @@ bool same_bits(double x, double y) { return std::memcmp(&x, &y, sizeof x) == 0; 
 struct Lane {
   double area, chord, px, py, nx, ny, ax, ay, bx, by, vax, vay, wa, vbx, vby, wb;
   double inverse_mass_a, inverse_mass_b, inverse_inertia_a, inverse_inertia_b, floor_a, floor_b;
-  bool a_is_wall;
+  bool a_has_no_lever;
   double old_spring, old_nx, old_ny;
 };
 
@@ -36,7 +36,7 @@ Expected scalar_law(const ContactParameters& law, double dt, const Lane& c) {
   ContactKinematics k;
   k.area = c.area;
   k.chord = c.chord;
-  k.lever_a = c.a_is_wall ? INFINITY : std::max(std::sqrt(ra2), c.floor_a);
+  k.lever_a = c.a_has_no_lever ? INFINITY : std::max(std::sqrt(ra2), c.floor_a);
   k.lever_b = std::max(std::sqrt(rb2), c.floor_b);
   k.approach_speed = c.nx * dux + c.ny * duy;
   k.slip_speed = -c.ny * dux + c.nx * duy;
@@ -64,10 +64,10 @@ Lane random_lane(std::mt19937_64& random) {
   c.area = 1e-9 * (1.0 + u(random)), c.chord = 1e-3 * (1.0 + u(random));
   c.vax = 0.2 * u(random), c.vay = 0.2 * u(random), c.wa = 20 * u(random);
   c.vbx = 0.2 * u(random), c.vby = 0.2 * u(random), c.wb = 20 * u(random);
-  c.a_is_wall = u(random) > 0.6;
-  c.inverse_mass_a = c.a_is_wall ? 0.0 : 1.0 / (0.1 * (1.5 + u(random)));
+  c.a_has_no_lever = u(random) > 0.6;
+  c.inverse_mass_a = c.a_has_no_lever ? 0.0 : 1.0 / (0.1 * (1.5 + u(random)));
   c.inverse_mass_b = 1.0 / (0.1 * (1.5 + u(random)));
-  c.inverse_inertia_a = c.a_is_wall ? 0.0 : 1.0 / (1e-6 * (1.5 + u(random)));
+  c.inverse_inertia_a = c.a_has_no_lever ? 0.0 : 1.0 / (1e-6 * (1.5 + u(random)));
   c.inverse_inertia_b = 1.0 / (1e-6 * (1.5 + u(random)));
   c.floor_a = 1.5e-3 * (1.0 + 0.5 * u(random)), c.floor_b = 1.5e-3 * (1.0 + 0.5 * u(random));
   const bool continues = u(random) > -0.6;
@@ -100,7 +100,7 @@ TEST(ContactLawX4, EveryLaneGivesTheScalarLawsBits) {
         in.inverse_mass_a[lane] = c[lane].inverse_mass_a, in.inverse_mass_b[lane] = c[lane].inverse_mass_b;
         in.inverse_inertia_a[lane] = c[lane].inverse_inertia_a, in.inverse_inertia_b[lane] = c[lane].inverse_inertia_b;
         in.lever_floor_a[lane] = c[lane].floor_a, in.lever_floor_b[lane] = c[lane].floor_b;
-        in.a_is_wall[lane] = c[lane].a_is_wall ? -1 : 0;
+        in.a_has_no_lever[lane] = c[lane].a_has_no_lever ? -1 : 0;
         in.old_spring[lane] = c[lane].old_spring;
         in.old_normal_x[lane] = c[lane].old_nx, in.old_normal_y[lane] = c[lane].old_ny;
       }

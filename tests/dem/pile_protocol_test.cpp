@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dem/checkpoint.h"
+#include "dem/plate_force.h"
 
 namespace pilelab::dem {
 namespace {
@@ -210,6 +211,63 @@ TEST(PilePour, ARainDepositsGrainsOnlyWithinItsWidth) {
   EXPECT_EQ(seen, scene.grain_count);
   EXPECT_LT(lowest, 0.01);
   EXPECT_GT(highest, 0.09);
+}
+
+TEST(PileBase, AGrainBaseIsARowOfFixedGrainsStandingOnThePlate) {
+  // base = "grains": fixed grains (walls whose lever counts) side by side across the plate, each
+  // with its lowest point on the plate's top, none overlapping its neighbour, the row reaching to
+  // within a grain of the plate's right end; the pour's grains are drawn as with a flat plate.
+  DemScene scene = small_pile(Scheme::leapfrog);
+  scene.container.base = BaseKind::grains;
+  PileProtocol p(scene, "test");
+  const World& w = p.world();
+  const std::vector<int>& base = p.base_bodies();
+  ASSERT_GT(base.size(), 30u);
+  EXPECT_EQ(base.front(), 0);
+  EXPECT_TRUE(w.is_flat_wall(0));
+  double right_end = -INFINITY, previous_right = -INFINITY;
+  for (std::size_t k = 1; k < base.size(); ++k) {
+    const int b = base[k];
+    ASSERT_TRUE(w.is_wall(b));
+    EXPECT_FALSE(w.is_flat_wall(b));
+    double lo_x = INFINITY, hi_x = -INFINITY, lo_y = INFINITY;
+    for (int c = 0; c < w.corner_count(b); ++c) {
+      lo_x = std::min(lo_x, w.corners(b)[c].x());
+      hi_x = std::max(hi_x, w.corners(b)[c].x());
+      lo_y = std::min(lo_y, w.corners(b)[c].y());
+    }
+    EXPECT_NEAR(lo_y, 0.0, 1e-12) << "base grain " << k;
+    EXPECT_GT(lo_x, previous_right) << "base grain " << k << " overlaps its neighbour";
+    previous_right = right_end = hi_x;
+  }
+  EXPECT_LE(right_end, 0.5 * scene.container.plate_width);
+  EXPECT_GT(right_end, 0.5 * scene.container.plate_width - scene.grains.largest_diameter());
+  // The same grains are poured as onto the flat plate.
+  DemScene flat = small_pile(Scheme::leapfrog);
+  PileProtocol q(flat, "test");
+  const int first = w.wall_count(), first_flat = q.world().wall_count();
+  for (int g = 0; g < scene.grain_count; ++g)
+    EXPECT_EQ(w.shape(first + g).vertices, q.world().shape(first_flat + g).vertices) << "grain " << g;
+}
+
+TEST(PileBase, APileOnAGrainBaseLoadsItWithItsWeight) {
+  // The load on the plate and the base's grains integrates to the weight within the settling
+  // residual: the grains' forces on one another cancel, so load - weight = sum of m a, to
+  // round-off, only if every contact with the base is counted.
+  DemScene scene = small_pile(Scheme::leapfrog);
+  scene.container.base = BaseKind::grains;
+  PileProtocol p(scene, "test");
+  while (!p.done()) p.step();
+  const Snapshot& settled = p.snapshots().front();
+  const PlateLoad load = plate_load(p.world(), settled, p.base_bodies(), -0.15, 0.3, 6.8e-3);
+  double residual = 0.0;
+  for (std::size_t i = 0; i < settled.grain_count(); ++i)
+    residual += settled.contact_force[2 * i + 1] - p.world().mass(static_cast<int>(settled.body[i])) * settled.gravity;
+  EXPECT_NEAR(load.total_force - load.weight, residual, 1e-10 * load.weight) << "a base contact was missed";
+  double on_grains = 0.0;  // the base's grains, not the plate, carry the pile
+  for (std::size_t c = 0; c < settled.contact_count_total(); ++c)
+    if (settled.pair[2 * c] > 0 && p.world().is_wall(static_cast<int>(settled.pair[2 * c]))) on_grains += settled.force[2 * c + 1];
+  EXPECT_GT(on_grains, 0.9 * load.total_force);
 }
 
 }  // namespace

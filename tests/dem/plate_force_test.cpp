@@ -64,7 +64,7 @@ TEST(PlateForce, TheLoadOfASettledHeapIsItsWeightWithinTheSettlingResidual) {
   }
   while (w.time() < 8.0) w.step();
   const Snapshot snapshot = take_snapshot(w, "settled");
-  const PlateLoad load = plate_load(w, snapshot, 0, -0.5 * plate_width, plate_width, 6.8e-3);
+  const PlateLoad load = plate_load(w, snapshot, {0}, -0.5 * plate_width, plate_width, 6.8e-3);
 
   double integral = 0.0;
   for (double q : load.load) integral += q * load.bin_width;

@@ -434,3 +434,32 @@ TEST(World, TangentialSpringTurnsWithTheContactAndStartsAfreshAfterAJump) {
     EXPECT_NEAR(c.tangential_force, expected, 1e-12 * s0) << "phi " << phi;
   }
 }
+
+TEST(World, AFixedGrainsLeverCountsInTheContactLengthAFlatWallsDoesNot) {
+  // A square grain pressed into a square held below it, face on: the normal force is E A / l with
+  // l = r_a r_b / (r_a + r_b) for a fixed grain (both levers, as between two grains), and l = r_b
+  // for a flat wall (its lever infinite), r the distances from the centroids to the force point.
+  const double s = 0.004, E = 1e7, depth = 1e-5;
+  const Shape square = make_polygon({{0, 0}, {s, 0}, {s, s}, {0, s}});
+  for (bool fixed_grain : {true, false}) {
+    WorldSettings settings;
+    settings.scheme = Scheme::verlet;
+    settings.gravity = {0, 0};
+    settings.contact.youngs_modulus = E;
+    settings.contact.damping_gamma = 0.0;
+    settings.contact.friction_mu = 0.0;
+    settings.time_step = 1e-9;
+    World w(settings);
+    const int below = fixed_grain ? w.add_fixed_grain(square, {0, 0}, 0.0) : w.add_wall(square, {0, 0}, 0.0);
+    EXPECT_EQ(w.is_flat_wall(below), !fixed_grain);
+    const int grain = w.add_grain(square, 5000.0);
+    w.activate(grain, {0.0005, s - depth}, 0.0, {0, 0}, 0.0);
+    w.step();
+    ASSERT_EQ(w.contacts().size(), 1u);
+    const Contact& c = w.contacts()[0];
+    const double r_a = (c.point - w.position(below)).norm(), r_b = (c.point - w.position(grain)).norm();
+    const double l = fixed_grain ? r_a * r_b / (r_a + r_b) : r_b;
+    EXPECT_NEAR(c.normal_force, E * c.area / l, 1e-9 * E * c.area / l) << (fixed_grain ? "fixed grain" : "flat wall");
+    EXPECT_EQ(w.velocity(below), Vec2(0, 0)) << "held in place";
+  }
+}

@@ -40,7 +40,11 @@ BINS = np.linspace(-1.5, 1.5, 61)
 
 
 def arms():
-    return sorted(os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(HERE, "*.toml")))
+    """Every scene of the study: the first screen's arms (studies/signatures/*.toml) and the cells
+    of the second (studies/signatures/cells/*.toml, from design.py), named by their path without
+    .toml."""
+    scenes = glob.glob(os.path.join(HERE, "*.toml")) + glob.glob(os.path.join(HERE, "cells", "*.toml"))
+    return sorted(os.path.splitext(os.path.relpath(p, HERE))[0] for p in scenes)
 
 
 def centre_over_ring(x, load):

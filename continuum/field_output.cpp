@@ -1,5 +1,8 @@
 #include "continuum/field_output.h"
 
+#include <cerrno>
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,12 +28,24 @@ std::string write_vtu(DataOut<2>& data_out, const std::string& out_dir, const st
   data_out.set_flags(flags);
   const unsigned rank = Utilities::MPI::this_mpi_process(comm);
   const unsigned n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  // deal.II reports a failed stream (a full disk) by an exception whose text names neither the
+  // file nor the cause: say both.
   auto write_with = [](const std::string& path, const std::function<void(std::ostream&)>& write) {
     write_atomically(path, [&](const std::string& tmp) {
+      const auto failed = [&] {
+        return InputError(path + ": cannot write the file: " +
+                          (errno ? std::string(std::strerror(errno)) : std::string("the stream failed (is the disk full?)")));
+      };
+      errno = 0;
       std::ofstream out(tmp);
-      write(out);
+      if (!out) throw failed();
+      try {
+        write(out);
+      } catch (const ExceptionBase&) {
+        throw failed();
+      }
       out.close();
-      if (!out) throw InputError(path + ": cannot write the file");
+      if (!out) throw failed();
     });
   };
   if (n_ranks == 1) {

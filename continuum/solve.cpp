@@ -3,6 +3,8 @@
 // writes the shared files (report.json, profiles.csv, models.h5, pile.msh, the .pvtu record).
 #include "continuum/solve.h"
 
+#include "common/atomic_file.h"
+
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -239,6 +241,9 @@ nlohmann::json solve_models(const ContinuumSettings& s, const SolveOptions& o, M
 }  // namespace
 
 nlohmann::json run_solve(const SolveOptions& o) {
+  // A folder that cannot be written is found before anything is computed, as the other stages
+  // find it (every rank probes with a file of its own).
+  prepare_output_directory(o.out_dir);
   SceneReader reader = SceneReader::from_file(o.scene_path);
   const std::string scene_dir = fs::path(o.scene_path).parent_path().string();
   ContinuumSettings s = read_continuum_scene(reader, scene_dir.empty() ? "." : scene_dir);

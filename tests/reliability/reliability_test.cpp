@@ -171,3 +171,19 @@ TEST_F(Reliability, AFullDiskDuringMeshKeepsTheGoodMesh) {
   EXPECT_TRUE(read_file(out + "/pile.msh") == good) << "the good mesh was replaced";
   expect_no_temporary_files(out);
 }
+
+#ifdef PILELAB_WITH_CONTINUUM
+TEST_F(Reliability, SolveFindsAReadOnlyFolderBeforeItComputes) {
+  // `pilelab solve` into a read-only folder: exit 2 naming the folder and the system's reason,
+  // before any model is solved (no model's progress line).
+  const MountedTmpfs disk(path("readonly"), "size=64k,ro");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  const std::string scene = write_scene(
+      "wedge.toml", "[mesh]\nkind = \"wedge\"\nelement_size_m = 0.05\n\n[continuum]\nmodels = [\"elastic\"]\n");
+  const auto r = run("solve " + scene + " -o " + path("readonly/out"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(path("readonly/out")), std::string::npos) << "the message should name the folder:\n" << r.output;
+  EXPECT_NE(r.output.find("Read-only file system"), std::string::npos) << "and the system's reason:\n" << r.output;
+  EXPECT_EQ(r.output.find("elastic:"), std::string::npos) << "nothing may be solved first:\n" << r.output;
+}
+#endif

@@ -4,6 +4,7 @@
 
 #include "coarse/coarse_scene.h"
 #include "common/ensemble.h"
+#include "common/error.h"
 #include "common/scene_reader.h"
 #include "common/scene_tables.h"
 #include "compare/compare_run.h"
@@ -32,11 +33,32 @@ std::vector<std::string> check_scene(const std::string& path) {
     if (scene.time_step > 0.0) dem::PileProtocol(scene, path);
     found.push_back("dem");
   }
+  // A file a stage reads that no stage of this scene makes must exist now, not be found missing
+  // after the pour.
+  const auto must_exist = [&](const std::string& key, const std::string& file) {
+    if (!file.empty() && !std::filesystem::exists(file))
+      throw InputError(path + ": " + key + " = " + file +
+                       ": no such file (a stage reads it and no stage of this scene makes it)");
+  };
+  const auto made_in_out = [&](const std::string& file) { return file.rfind(out + "/", 0) == 0; };
   if (reader.has("mesh")) mesh::read_mesh_scene(reader, dir), found.push_back("mesh");
-  if (reader.has("coarse")) coarse::read_coarse_scene(reader, dir, out), found.push_back("coarse");
+  if (reader.has("coarse")) {
+    const coarse::CoarseSettings c = coarse::read_coarse_scene(reader, dir, out);
+    for (const std::string& f : c.dem_files)
+      if (!made_in_out(f)) must_exist("coarse.dem_files", f);
+    if (!made_in_out(c.mesh_file))
+      must_exist("coarse.mesh_file", c.mesh_file);
+    else if (!reader.has("mesh"))
+      throw InputError(path + ": [coarse] samples its fields on OUT/pile.msh, which only the mesh stage makes: add a "
+                              "[mesh] table, or name a mesh in coarse.mesh_file");
+    found.push_back("coarse");
+  }
   if (reader.has("compare")) compare::read_compare_scene(reader, dir, out), found.push_back("compare");
 #ifdef PILELAB_WITH_CONTINUUM
-  if (reader.has("continuum")) continuum::read_continuum_scene(reader, dir), found.push_back("continuum");
+  if (reader.has("continuum")) {
+    must_exist("continuum.mesh_file", continuum::read_continuum_scene(reader, dir).mesh_file);
+    found.push_back("continuum");
+  }
 #endif
   reader.reject_unknown({"scene", "ensemble", "dem", "mesh", "coarse", "compare"}, scene_tables());
   return found;

@@ -61,3 +61,27 @@ TEST_F(SceneCheck, EveryPresetIsAcceptedByEveryStage) {
     EXPECT_EQ(r.exit_code, 0) << preset << "\n" << r.output;
   }
 }
+
+// Files a stage reads and no stage of the scene makes are found missing by the check, before
+// anything is poured, naming the key and the file; so is a [coarse] with no mesh to sample on.
+TEST_F(SceneCheck, MissingInputFilesAreFoundBeforeThePour) {
+  struct Case {
+    std::string tables, expected;
+  };
+  std::vector<Case> cases = {
+      Case{"[mesh]\nkind = \"wedge\"\n[coarse]\nmesh_file = \"no_such.msh\"\n", "coarse.mesh_file = "},
+      Case{"[mesh]\nkind = \"wedge\"\n[coarse]\ndem_files = [\"no_such.h5\"]\n", "coarse.dem_files = "},
+      Case{"[coarse]\nrve_grain_count = 30\n", "[coarse] samples its fields on OUT/pile.msh, which only the mesh stage makes"}};
+#ifdef PILELAB_WITH_CONTINUUM
+  cases.push_back(Case{"[continuum]\nmesh_file = \"no_such.msh\"\n", "continuum.mesh_file = "});
+#endif
+  for (const Case& c : cases) {
+    const std::string scene = write_scene("missing.toml", pilelab::test::tiny_scene() + c.tables);
+    const auto check = run("check " + scene);
+    EXPECT_EQ(check.exit_code, 2) << c.tables << check.output;
+    EXPECT_NE(check.output.find(c.expected), std::string::npos) << c.tables << check.output;
+    const auto pipeline = run("run " + scene + " -o " + path("out") + " -q");
+    EXPECT_EQ(pipeline.exit_code, 2) << c.tables << pipeline.output;
+    EXPECT_FALSE(std::filesystem::exists(path("out") + "/dem.h5")) << "poured before the scene was checked: " << c.tables;
+  }
+}

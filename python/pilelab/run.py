@@ -143,16 +143,33 @@ class Run:
         return x, loads.mean(axis=0), stderr
 
 
+# What a run's directory holds when some stage has finished there.
+_OUTPUTS = ("report.json", "dem.h5", "fields.h5", "models.h5", "pile.msh")
+
+
 def load(path):
-    """The run in directory path (see Run)."""
-    return Run(path)
+    """The run in directory path (see Run). A directory that holds none of a run's outputs
+    (empty, or another folder named by mistake) is an error naming it."""
+    run = Run(path)
+    if not any(os.path.exists(run.file(name)) for name in _OUTPUTS):
+        raise FileNotFoundError(f"{run.path}: no run's outputs here (none of {', '.join(_OUTPUTS)}); "
+                                "`pilelab run SCENE -o DIR` writes them")
+    return run
 
 
 def _read_json(path):
+    """A JSON file as a dict ({} when missing); a damaged or truncated one is an error naming it."""
     if not os.path.exists(path):
         return {}
     with open(path, encoding="utf-8") as f:
-        return json.load(f)
+        try:
+            value = json.load(f)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}: not valid JSON ({e.msg} at line {e.lineno}, column {e.colno}): "
+                             "damaged, or written by a run that was killed") from None
+    if not isinstance(value, dict):
+        raise ValueError(f"{path}: expected a JSON object, found {type(value).__name__}")
+    return value
 
 
 def _if_exists(path, reader):

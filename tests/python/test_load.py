@@ -142,3 +142,27 @@ class LoadTinyPipeline(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class LoadFailsClearly(unittest.TestCase):
+    """An empty folder, a damaged report: errors that name the file, not raw exceptions later."""
+
+    def test_an_empty_folder_is_refused_naming_it(self):
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaises(FileNotFoundError) as e:
+                pilelab.load(d)
+            self.assertIn(d, str(e.exception))
+            self.assertIn("no run's outputs here", str(e.exception))
+
+    def test_a_truncated_report_names_the_file(self):
+        import tempfile
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "report.json")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write('{"dem": {"height_m": 0.3')  # a run killed while writing it (or a damaged copy)
+            run = pilelab.load(d)
+            with self.assertRaises(ValueError) as e:
+                run.report
+            self.assertIn(path, str(e.exception))
+            self.assertIn("not valid JSON", str(e.exception))

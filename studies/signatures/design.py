@@ -6,7 +6,10 @@ studies/signatures/cells/, from the corrected law's arm of the first screen
 
     /usr/bin/python3 studies/signatures/design.py [--check]
 
-Six two-level factors, each cell an ensemble of the same 8 seeds (paired across cells):
+Six two-level factors, each cell an ensemble of the same 4 seeds (paired across cells), so that
+each level of a factor is measured on 32 piles (the first screen's paired differences had a
+standard error of 0.5 degrees of repose on 12 pairs; a main effect here averages over 32 piles
+per side and is read with the cells' spread):
 
     A corner placement   jittered 0.25  | random (minimum gap 0.25 of the mean)
     B elongation         axes +-15 %    | +-30 % (the paper's reading, the base's)
@@ -35,6 +38,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "studies
 import stages  # noqa: E402  (scene_with: one key of a TOML table rewritten)
 
 D = 6.8e-3  # the mean grain diameter [m]
+SEEDS = 4  # piles a cell
 LEVELS = {
     "A": ({"dem.grains": {"corner_placement": '"jittered"', "corner_jitter": "0.25"}},
           {"dem.grains": {"corner_placement": '"random"', "corner_min_gap": "0.25"}}),
@@ -86,7 +90,7 @@ def main():
     with open(os.path.join(HERE, "force_point_centroid_spring.toml"), encoding="utf-8") as f:
         base = f.read()
     base = "\n".join(line for line in base.split("\n") if not line.startswith("#"))  # the arm's own header
-    base = stages.scene_with(base, "ensemble", "count", "8")
+    base = stages.scene_with(base, "ensemble", "count", str(SEEDS))
     out = os.path.join(HERE, "cells")
     os.makedirs(out, exist_ok=True)
     for k, cell in enumerate(cells, 1):

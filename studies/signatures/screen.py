@@ -19,8 +19,10 @@ import argparse
 import glob
 import json
 import os
+import shutil
 import subprocess
 import sys
+import tomllib
 
 import numpy as np
 
@@ -61,7 +63,18 @@ def member_products(directory):
         dem = json.load(f)["dem"]
     snap = pilelab.DemFile(os.path.join(directory, "dem.h5")).snapshot("settled")
     c = snap.contacts
-    on_plate = c.pair[:, 0] == 0  # the plate is body 0; a wall is the lower body of its pairs
+    # The pile stands on the plate (body 0) and, with `base = "grains"`, on fixed grains. Walls
+    # are laid in the order of dem/pile_protocol.cpp: the plate, the side walls if any, the
+    # funnel's two plates if any, then the fixed grains of the base. A wall is the lower body
+    # of its pairs.
+    with open(os.path.join(directory, "scene.toml"), "rb") as f:
+        scene = tomllib.load(f)["dem"]
+    pour = scene.get("pour", {})
+    side = 2 if scene.get("container", {}).get("side_walls", False) else 0
+    funnel = 2 if pour.get("funnel_walls", pour.get("kind", "point_source") == "point_source") else 0
+    walls = np.flatnonzero(snap.dem.bodies["is_wall"])
+    base = np.concatenate([[0], walls[1 + side + funnel:]])
+    on_plate = np.isin(c.pair[:, 0], base)
     x, down = c.point[on_plate, 0], c.force[on_plate, 1]
     weight = float(snap.gravity_m_per_s2 * np.sum(snap.dem.bodies["mass"][snap.body]))
     h, apex = dem["height_m"], dem["apex_x_m"]
@@ -104,9 +117,17 @@ def main():
     parser.add_argument("-P", "--processes", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--out", default=os.path.join(ROOT, "out", "signatures"))
     parser.add_argument("--save", action="store_true", help="keep the piles of arms begun but not measured, and stop")
+    parser.add_argument("--pilelab", help="the binary (default: a copy of build/apps/pilelab in OUT, made once, "
+                        "so that a rebuild during the screen cannot mix builds inside the study)")
     parser.add_argument("--extract-only", action="store_true", help="only write members.json of arms already run")
     args = parser.parse_args()
     chosen = args.only.split(",") if args.only else arms()
+    if not args.pilelab:
+        args.pilelab = os.path.join(args.out, "pilelab")
+        if not os.path.exists(args.pilelab):
+            os.makedirs(args.out, exist_ok=True)
+            shutil.copy2(os.path.join(ROOT, "build", "apps", "pilelab"), args.pilelab + ".tmp")
+            os.replace(args.pilelab + ".tmp", args.pilelab)
     unknown = set(chosen) - set(arms())
     if unknown:
         sys.exit(f"screen.py: --only: no arm {sorted(unknown)} (known: {arms()})")
@@ -125,7 +146,7 @@ def main():
                 study_members.restore(members, os.path.join(IN_PROGRESS, arm))
             env = dict(os.environ, OMP_WAIT_POLICY="passive", OMP_NUM_THREADS="1")
             subprocess.run([sys.executable, os.path.join(ROOT, "studies", "speed_accuracy", "run.py"), "--only", "base",
-                            "-P", str(args.processes), "--base", os.path.join(HERE, arm + ".toml"),
+                            "-P", str(args.processes), "--pilelab", args.pilelab, "--base", os.path.join(HERE, arm + ".toml"),
                             "--data", os.path.join(DATA, arm), "--out", os.path.join(args.out, arm)], check=True, env=env)
         if os.path.exists(os.path.join(args.out, arm, "base", "report.json")):
             keep(arm, args.out)

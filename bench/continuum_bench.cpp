@@ -15,7 +15,7 @@
 #include <deal.II/base/mpi.h>
 
 #include "continuum/elastic_problem.h"
-#include "continuum/fpa_problem.h"
+#include "continuum/models/fpa.h"
 #include "continuum/pile_domain.h"
 #include "mesh/pile_mesh.h"
 

@@ -17,6 +17,15 @@
 
 namespace pilelab::continuum {
 
+double ElasticSettings::mu() const { return youngs_modulus_N_per_m / (2.0 * (1.0 + poisson_ratio)); }
+
+double ElasticSettings::lambda_2d() const {
+  const double nu = poisson_ratio, E = youngs_modulus_N_per_m;
+  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  if (plane == Plane::strain) return lambda;
+  return 2.0 * lambda * mu() / (lambda + 2.0 * mu());  // = E nu / (1 - nu^2)
+}
+
 using namespace dealii;
 
 namespace {

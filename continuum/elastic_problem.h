@@ -33,6 +33,23 @@
 
 namespace pilelab::continuum {
 
+/// Isotropic linear elasticity, two-dimensional. Moduli are per unit depth (N/m), like the
+/// DEM's contact stiffness; stresses come out in N/m.
+struct ElasticSettings : ModelSettings {
+  double youngs_modulus_N_per_m = 1.0e7;
+  double poisson_ratio = 0.3;
+  enum class Plane { strain, stress } plane = Plane::strain;
+  enum class Base { rough, smooth } base = Base::rough;  ///< rough: u = 0; smooth: u_y = 0
+  int degree = 2;                                        ///< FE_SimplexP degree, 1 or 2
+  double gravity_change = -0.1;                          ///< relative change of g (DEM relaxation)
+  SolverSettings solver;
+
+  /// Lame's first parameter and the shear modulus of the 2D problem: for plane stress the
+  /// effective lambda* = 2 lambda mu / (lambda + 2 mu) replaces lambda.
+  double lambda_2d() const;
+  double mu() const;
+};
+
 struct ElasticResult : ModelResult {
   /// The vertical force the base's constraints exert, from the residual A u - b at the base's
   /// constrained dofs (the consistent reaction): the weight up to the solver's tolerance on any

@@ -8,6 +8,9 @@
 
 #include "common/error.h"
 #include "continuum/pile_domain.h"
+#include "continuum/elastic_problem.h"
+#include "continuum/models/fpa.h"
+#include "continuum/models/osl.h"
 #include "continuum/settings.h"
 #include "mpi_environment.h"
 
@@ -56,9 +59,9 @@ std::string one_triangle_msh(const std::string& nodes, int boundary_id) {
 TEST(ContinuumInput, DefaultsAreValid) {
   SceneReader r("[continuum]\n", "scene.toml");
   const ContinuumSettings s = read_continuum_scene(r, ".");
-  EXPECT_TRUE(s.elastic && s.fpa);
-  EXPECT_DOUBLE_EQ(s.fpa_model.left_repose_angle_deg, 28.0);
-  EXPECT_EQ(s.elastic_model.degree, 2);
+  EXPECT_TRUE(s.wants("elastic") && s.wants("fpa") && !s.wants("osl"));
+  EXPECT_DOUBLE_EQ(s.settings_of<FpaSettings>("fpa").left_repose_angle_deg, 28.0);
+  EXPECT_EQ(s.settings_of<ElasticSettings>("elastic").degree, 2);
 }
 
 TEST(ContinuumInput, PoissonRatioAtOrAboveOneHalfIsRefused) {
@@ -83,24 +86,24 @@ TEST(ContinuumInput, ReposeAngleOutsideZeroToFortyFiveIsRefused) {
 
 TEST(ContinuumInput, ReposeAnglesFromTheDemReport) {
   SceneReader r("[continuum.fpa]\nrepose_angle_source = \"dem\"\n", "scene.toml");
-  ContinuumSettings s = read_continuum_scene(r, ".");
-  ASSERT_TRUE(s.fpa_model.angles_from_dem);
+  FpaSettings fpa = read_continuum_scene(r, ".").settings_of<FpaSettings>("fpa");
+  ASSERT_TRUE(fpa.angles_from_dem);
   const std::string good = temp_file("report.json", R"({"dem": {"repose_angle_left_deg": 25.5, "repose_angle_right_deg": 21.0}})");
-  apply_dem_repose_angles(s.fpa_model, good);
-  EXPECT_DOUBLE_EQ(s.fpa_model.left_repose_angle_deg, 25.5);
-  EXPECT_DOUBLE_EQ(s.fpa_model.right_repose_angle_deg, 21.0);
+  apply_dem_repose_angles(fpa, good);
+  EXPECT_DOUBLE_EQ(fpa.left_repose_angle_deg, 25.5);
+  EXPECT_DOUBLE_EQ(fpa.right_repose_angle_deg, 21.0);
   const std::string bad = temp_file("bad_report.json", R"({"dem": {"repose_angle_left_deg": null, "repose_angle_right_deg": 21.0}})");
   try {
-    apply_dem_repose_angles(s.fpa_model, bad);
+    apply_dem_repose_angles(fpa, bad);
     FAIL() << "a null angle was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("dem.repose_angle_left_deg"), std::string::npos) << e.what();
   }
   // The measured angles replace the scene's.
   SceneReader r2("[continuum.fpa]\nrepose_angle_source = \"dem\"\nrepose_angle_deg = 30\n", "scene.toml");
-  ContinuumSettings s2 = read_continuum_scene(r2, ".");
-  apply_dem_repose_angles(s2.fpa_model, good);
-  EXPECT_DOUBLE_EQ(s2.fpa_model.left_repose_angle_deg, 25.5);
+  FpaSettings fpa2 = read_continuum_scene(r2, ".").settings_of<FpaSettings>("fpa");
+  apply_dem_repose_angles(fpa2, good);
+  EXPECT_DOUBLE_EQ(fpa2.left_repose_angle_deg, 25.5);
   std::filesystem::remove(good);
   std::filesystem::remove(bad);
 }
@@ -113,6 +116,23 @@ TEST(ContinuumInput, UnknownKeysAndBadModelsAreRefused) {
   EXPECT_NE(error_of("[continuum.elastic]\nplane = \"axisymmetric\"\n").find("continuum.elastic.plane"),
             std::string::npos);
   EXPECT_NE(error_of("[continuum.elastic]\ndegree = 3\n").find("continuum.elastic.degree"), std::string::npos);
+}
+
+// The OSL's two constants are the model: listed without them it is refused, naming the key;
+// eta must be positive (the closure is hyperbolic only then), and unlisted its table is still
+// checked.
+TEST(ContinuumInput, OslNeedsItsConstants) {
+  EXPECT_NE(error_of("[continuum]\nmodels = [\"osl\"]\n").find("continuum.osl.eta"), std::string::npos);
+  EXPECT_NE(error_of("[continuum]\nmodels = [\"osl\"]\n[continuum.osl]\neta = 1.0\n").find("continuum.osl.mu"),
+            std::string::npos);
+  EXPECT_NE(error_of("[continuum]\nmodels = [\"osl\"]\n[continuum.osl]\neta = 0\nmu = 1\n").find("continuum.osl.eta"),
+            std::string::npos);
+  EXPECT_NE(error_of("[continuum.osl]\nnu = 1\n").find("continuum.osl.nu"), std::string::npos);
+  SceneReader r("[continuum]\nmodels = [\"osl\", \"elastic\"]\n[continuum.osl]\neta = 0.8\nmu = 1.1\n", "scene.toml");
+  const ContinuumSettings s = read_continuum_scene(r, ".");
+  EXPECT_EQ(s.models, (std::vector<std::string>{"elastic", "osl"}));  // the registry's order
+  EXPECT_DOUBLE_EQ(s.settings_of<OslSettings>("osl").eta, 0.8);
+  EXPECT_DOUBLE_EQ(s.settings_of<OslSettings>("osl").mu, 1.1);
 }
 
 TEST(ContinuumInput, MissingMeshNamesTheFile) {

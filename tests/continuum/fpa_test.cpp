@@ -9,51 +9,19 @@
 #include <gtest/gtest.h>
 
 #include "continuum/fpa_exact.h"
-#include "continuum/fpa_problem.h"
+#include "continuum/models/fpa.h"
 #include "mesh/pile_mesh.h"
 #include "mpi_environment.h"
+#include "wedge_meshes.h"
 
 using namespace pilelab::continuum;
 using dealii::Point;
+using pilelab::testing::fan_wedge;
 
 namespace {
 
 constexpr double rho = 4100, g = 9.81, h = 0.33;
 constexpr double deg = M_PI / 180;
-
-// Boundary ids from position: base y = 0 -> 1, flanks left / right of the apex -> 2 / 3.
-void set_wedge_ids(Triangulation2& tria, double apex_x) {
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto f : cell->face_indices())
-      if (cell->face(f)->at_boundary()) {
-        const Point<2> c = cell->face(f)->center();
-        cell->face(f)->set_boundary_id(std::abs(c[1]) < 1e-12 ? 1 : c[0] < apex_x ? 2 : 3);
-      }
-}
-
-// A wedge from a coarse fan of triangles around the apex, refined `levels` times (red
-// refinement: every edge of the coarse mesh stays a line of edges). base_x: the base points
-// between the feet, each joined to the apex.
-std::unique_ptr<Triangulation2> fan_wedge(double phi_left, double phi_right, std::vector<double> base_x,
-                                          unsigned levels) {
-  auto tria = make_triangulation(MPI_COMM_WORLD);
-  std::vector<Point<2>> v;
-  v.emplace_back(-h / std::tan(phi_left * deg), 0);
-  for (double x : base_x) v.emplace_back(x, 0);
-  v.emplace_back(h / std::tan(phi_right * deg), 0);
-  const unsigned apex = v.size();
-  v.emplace_back(0, h);
-  std::vector<dealii::CellData<2>> cells;
-  for (unsigned i = 0; i + 1 < apex; ++i) {
-    dealii::CellData<2> c(3);
-    c.vertices = {i, i + 1, apex};
-    cells.push_back(c);
-  }
-  tria->create_triangulation(v, cells, {});
-  set_wedge_ids(*tria, 0.0);
-  tria->refine_global(levels);
-  return tria;
-}
 
 FpaSettings settings(double phi_left, double phi_right, int degree) {
   FpaSettings s;
@@ -77,9 +45,9 @@ TEST(FpaWedge, ExactOnMeshAlignedWithTheCharacteristics) {
   for (double phi : {28.0, 21.0, 35.0, 5.0, 44.0}) {
     const double ray = h * std::tan((45 - phi / 2) * deg);
     for (int p : {1, 2}) {
-      auto tria = fan_wedge(phi, phi, {-ray, 0.0, ray}, 3);
+      auto tria = fan_wedge(h, phi, phi, {-ray, 0.0, ray}, 3);
       FpaProblem problem(*tria, settings(phi, phi, p), rho, g, 0.0);
-      const FpaResult& r = problem.run();
+      const ClosureResult& r = problem.run();
       const double area = h * h / std::tan(phi * deg);
       const double error = problem.stress_error([&](const Point<2>& x) {
         return fpa_symmetric_wedge_stress(phi, h, 0, rho * g, x[0], x[1]);
@@ -103,9 +71,9 @@ TEST(FpaWedge, BasePressureConvergesOnMeshNotAlignedWithRays) {
   for (int p : {1, 2}) {
     std::vector<double> errors;
     for (unsigned levels : {3u, 4u, 5u, 6u}) {
-      auto tria = fan_wedge(phi, phi, {0.0}, levels);
+      auto tria = fan_wedge(h, phi, phi, {0.0}, levels);
       FpaProblem problem(*tria, settings(phi, phi, p), rho, g, 0.0);
-      const FpaResult& r = problem.run();
+      const ClosureResult& r = problem.run();
       const double base = 2 * h / std::tan(phi * deg);
       errors.push_back(problem.base_pressure_error([&](double x) { return exact_base_pressure(phi, x); }) /
                        (rho * g * h * std::sqrt(base)));
@@ -132,9 +100,9 @@ TEST(FpaWedge, BasePressureConvergesOnMeshNotAlignedWithRays) {
 TEST(FpaWedge, MissingWeightIsTheSquaredResidual) {
   for (const auto& [left, right] : {std::pair{28.0, 28.0}, std::pair{28.0, 21.0}})
     for (int p : {1, 2}) {
-      auto tria = fan_wedge(left, right, {0.0}, 3);
+      auto tria = fan_wedge(h, left, right, {0.0}, 3);
       FpaProblem problem(*tria, settings(left, right, p), rho, g, 0.0);
-      const FpaResult& r = problem.run();
+      const ClosureResult& r = problem.run();
       double area = 0;
       for (const auto& cell : tria->active_cell_iterators()) area += cell->measure();
       const double e = r.residual_norm * std::sqrt(area) / r.weight;
@@ -151,7 +119,7 @@ TEST(FpaWedge, MissingWeightIsTheSquaredResidual) {
 // of it): with phi = 28 that is 59 degrees. Wedges of 56 and 62 degrees lie either side.
 TEST(FpaWedge, FlanksSteeperThanACharacteristicAreOutflow) {
   for (const auto& [flank, expected] : {std::pair{56.0, 0.0}, std::pair{62.0, 1.0}}) {
-    auto tria = fan_wedge(flank, flank, {0.0}, 2);
+    auto tria = fan_wedge(h, flank, flank, {0.0}, 2);
     FpaProblem problem(*tria, settings(28.0, 28.0, 1), rho, g, 0.0);
     EXPECT_EQ(problem.run().outflow_surface_length_fraction, expected) << flank << " degree flanks";
   }
@@ -167,7 +135,7 @@ TEST(FpaWedge, GmshWedgeCarriesTheWeightAndShowsTheDip) {
   auto tria = make_triangulation(MPI_COMM_WORLD);
   read_pile_mesh(msh, *tria);
   FpaProblem problem(*tria, settings(28, 28, 1), rho, g, 0.0);
-  const FpaResult& r = problem.run();
+  const ClosureResult& r = problem.run();
   EXPECT_NEAR(r.base_force_N / r.weight, 1.0, 5e-3);
   Stress2 centre, ring;
   ASSERT_TRUE(problem.stress_at(Point<2>(0.0, 0.0), centre));
@@ -197,9 +165,9 @@ TEST(FpaWedge, AsymmetricExactOnMeshAlignedWithTheCharacteristics) {
   for (auto [left, right] : {std::pair{28.0, 21.0}, std::pair{21.0, 35.0}})
     for (int p : {1, 2}) {
       const double ray_l = h * std::tan((45 - left / 2) * deg), ray_r = h * std::tan((45 - right / 2) * deg);
-      auto tria = fan_wedge(left, right, {-ray_l, 0.0, ray_r}, 3);
+      auto tria = fan_wedge(h, left, right, {-ray_l, 0.0, ray_r}, 3);
       FpaProblem problem(*tria, settings(left, right, p), rho, g, 0.0);
-      const FpaResult& r = problem.run();
+      const ClosureResult& r = problem.run();
       const double area = 0.5 * h * h * (1 / std::tan(left * deg) + 1 / std::tan(right * deg));
       const double error = problem.stress_error([&](const Point<2>& x) {
         return fpa_wedge_stress(left, right, h, 0, rho * g, x[0], x[1]);
@@ -241,25 +209,25 @@ TEST(FpaWedge, MinorAxisAtTheFixedDirectionNearTheAxisOfAnAsymmetricPile) {
   // The steeper side's fixed axis is its major axis throughout (p_xy >= 0 left of the apex).
   for (double f : {0.05, 0.5, 0.95}) EXPECT_GE(fpa_wedge_stress(left, right, h, 0, rho_g, -f * ray_l * h, 0).xy, 0.0);
 
-  auto tria = fan_wedge(left, right, {-ray_l * h, 0.0, c * h, ray_r * h}, 3);
+  auto tria = fan_wedge(h, left, right, {-ray_l * h, 0.0, c * h, ray_r * h}, 3);
   FpaProblem problem(*tria, settings(left, right, 1), rho, g, 0.0);
-  const FpaResult& r = problem.run();
+  const ClosureResult& r = problem.run();
   const double exact = c / (1 / std::tan(left * deg) + 1 / std::tan(right * deg));
   std::printf("28/21: fixed direction is the minor axis on %.4f of the area (exact %.4f, X/Z < %.4f)\n",
-              r.minor_axis_fixed_area_fraction, exact, c);
-  EXPECT_NEAR(r.minor_axis_fixed_area_fraction, exact, 1e-9);
+              r.reversed_shear_area_fraction, exact, c);
+  EXPECT_NEAR(r.reversed_shear_area_fraction, exact, 1e-9);
   // Equal angles: b = 0, no such region (up to round-off signs on the axis, which has no area).
-  auto sym = fan_wedge(28, 28, {-ray_l * h, 0.0, ray_l * h}, 3);
+  auto sym = fan_wedge(h, 28, 28, {-ray_l * h, 0.0, ray_l * h}, 3);
   FpaProblem symmetric(*sym, settings(28, 28, 1), rho, g, 0.0);
-  EXPECT_LT(symmetric.run().minor_axis_fixed_area_fraction, 1e-9);
+  EXPECT_LT(symmetric.run().reversed_shear_area_fraction, 1e-9);
 }
 
 // An asymmetric pile (the paper's 28 and 21 degrees): the base carries the weight and no net
 // shear (the flanks are traction-free, so global equilibrium leaves the base alone to balance).
 TEST(FpaWedge, AsymmetricWedgeBalancesForces) {
-  auto tria = fan_wedge(28, 21, {0.0}, 6);
+  auto tria = fan_wedge(h, 28, 21, {0.0}, 6);
   FpaProblem problem(*tria, settings(28, 21, 1), rho, g, 0.0);
-  const FpaResult& r = problem.run();
+  const ClosureResult& r = problem.run();
   std::printf("asymmetric 28/21: base force / weight = %.5f, base shear / weight = %.2e\n", r.base_force_N / r.weight,
               r.base_shear_force / r.weight);
   EXPECT_NEAR(r.base_force_N / r.weight, 1.0, 5e-3);
@@ -272,8 +240,8 @@ TEST(FpaWedge, AsymmetricWedgeBalancesForces) {
 // the wrong sign on one side breaks both.
 TEST(FpaWedge, MirrorSymmetry) {
   auto check = [](double left, double right) {
-    auto a = fan_wedge(left, right, {0.0}, 4);
-    auto b = fan_wedge(right, left, {0.0}, 4);
+    auto a = fan_wedge(h, left, right, {0.0}, 4);
+    auto b = fan_wedge(h, right, left, {0.0}, 4);
     FpaProblem pa(*a, settings(left, right, 2), rho, g, 0.0), pb(*b, settings(right, left, 2), rho, g, 0.0);
     pa.run();
     pb.run();
@@ -296,11 +264,11 @@ TEST(FpaWedge, MirrorSymmetry) {
 // The weak free-surface condition converges to the same stresses (De Sterck et al. weight the
 // boundary term so that the functional stays a norm; with gamma / h_F it is consistent).
 TEST(FpaWedge, WeakSurfaceAgreesWithStrong) {
-  auto tria = fan_wedge(28, 28, {0.0}, 5);
+  auto tria = fan_wedge(h, 28, 28, {0.0}, 5);
   FpaSettings s = settings(28, 28, 1);
-  s.surface = FpaSettings::Surface::weak;
+  s.surface = ClosureSettings::Surface::weak;
   FpaProblem problem(*tria, s, rho, g, 0.0);
-  const FpaResult& r = problem.run();
+  const ClosureResult& r = problem.run();
   Stress2 centre;
   ASSERT_TRUE(problem.stress_at(Point<2>(0.0, 0.0), centre));
   std::printf("weak surface, 5 levels: base force / weight = %.5f, centre p_yy / rho g h = %.4f (exact %.4f)\n",

@@ -315,8 +315,8 @@ void run_pipeline(const RunOptions& opt) {
 #ifdef PILELAB_WITH_CONTINUUM
                         // The fit's closed loop: the continuum's elasticity, on this rank alone.
                         if (std::filesystem::exists(out("pile.msh")))
-                          o.solve_gravity_change = [](const GravityChangeProblem& p, const std::string& dir) {
-                            continuum::solve_gravity_change(p, dir);
+                          o.solve_models = [](const std::string& text, const std::string& source, const std::string& dir) {
+                            continuum::solve_scene_text(text, source, dir);
                           };
 #endif
                         compare::run_compare(o);

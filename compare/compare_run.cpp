@@ -19,6 +19,7 @@
 #include "common/scene_reader.h"
 #include "common/scene_tables.h"
 #include "common/triangle_vtu.h"
+#include "compare/closure_fit.h"
 #include "compare/field_norms.h"
 #include "compare/stress_strain_fit.h"
 #include "dem/dem_result.h"
@@ -555,13 +556,43 @@ std::string fields_mesh_file(const std::string& out_dir) {
   return in_dir(out_dir, "pile.msh");
 }
 
+namespace {
+
+// Scene text for a closed loop's [continuum] table: numbers that read back to the same double,
+// strings quoted as TOML basic strings.
+std::string toml_number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  std::string text = buffer;
+  if (text.find_first_of(".eE") == std::string::npos) text += ".0";  // a float, not an integer
+  return text;
+}
+std::string toml_string(const std::string& v) {
+  std::string text = "\"";
+  for (char c : v) text += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+  return text + "\"";
+}
+
+// The [continuum] table of a closed loop: one model on the fields' mesh, with the DEM's bulk
+// density and gravity, and the model's own keys.
+std::string closed_loop_scene(const std::string& model, const std::string& mesh_file, const FieldsAttributes& fields,
+                              const std::vector<std::pair<std::string, double>>& keys) {
+  std::string text = "[continuum]\nmodels = [" + toml_string(model) + "]\nmesh_file = " + toml_string(mesh_file) +
+                     "\ndensity_kg_per_m2 = " + toml_number(fields.rho_bulk_kg_per_m2) +
+                     "\ngravity_m_per_s2 = " + toml_number(fields.gravity_m_per_s2) + "\n[continuum." + model + "]\n";
+  for (const auto& [key, value] : keys) text += key + " = " + toml_number(value) + "\n";
+  return text;
+}
+
+}  // namespace
+
 // The closed loop of the fit: the gravity change of the fields (the DEM's relaxation) solved
 // with the fitted isotropic constants on the fields' mesh, into OUT/closed_loop/, and its
 // displacements and strains against the DEM's. Null when there is nothing to close (no fitted
 // constants, no gravity change); a note instead of numbers when the constants are no stable
 // isotropic material.
 nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_path, const std::string& out_dir,
-                           const GravityChangeSolver& solve) {
+                           const ModelSolver& solve) {
   if (!fit.contains("models") || !fit["models"].contains("isotropic")) return nullptr;
   const auto& iso = fit["models"]["isotropic"];
   const auto constant = [&](const char* key) {  // null when the fit had no data
@@ -571,27 +602,72 @@ nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_
   if (!std::isfinite(lambda) || !std::isfinite(mu)) return nullptr;  // the fit had no data
   const double nu = lambda / (2 * (lambda + mu));
   const FieldsAttributes fields = read_fields_attributes(fields_path);
-  GravityChangeProblem problem;
-  problem.gravity_change = fields.gravity_change;
-  if (problem.gravity_change == 0.0) return nullptr;
+  if (fields.gravity_change == 0.0) return nullptr;
   nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
   if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
     result["skipped"] = "the fitted constants are not a stable isotropic material";
     return result;
   }
-  problem.mesh_file = fields_mesh_file(out_dir);
-  problem.lame_lambda_N_per_m = std::max(lambda, 0.0);  // a negative lambda with nu > -1 is clipped, as reported
-  problem.shear_modulus_N_per_m = mu;
-  problem.density_kg_per_m2 = fields.rho_bulk_kg_per_m2;
-  problem.gravity_m_per_s2 = fields.gravity_m_per_s2;
+  const double lambda_used = std::max(lambda, 0.0);  // a negative lambda with nu > -1 is clipped, as reported
   const std::string dir = in_dir(out_dir, "closed_loop");
   prepare_output_directory(dir);  // also clears what a killed run left there
-  solve(problem, dir);
+  solve(closed_loop_scene("elastic", fields_mesh_file(out_dir), fields,
+                          {{"lame_lambda_N_per_m", lambda_used}, {"shear_modulus_N_per_m", mu},
+                           {"gravity_change", fields.gravity_change}}),
+        "(the closed loop of the fit)", dir);
   result.update(compare_displacements(fields_path, in_dir(dir, "models.h5"), "elastic"));
-  result["lame_lambda_used_N_per_m"] = problem.lame_lambda_N_per_m;
+  result["lame_lambda_used_N_per_m"] = lambda_used;
   result["directory"] = "closed_loop";
   return result;
 }
+
+namespace {
+
+// One model of a models.h5 against the DEM: its fields on the DEM's points and on its scale,
+// and its numbers with their errors over the piles.
+struct ComparedModel {
+  PointFields fields;
+  nlohmann::json numbers;
+  double stress_scale = 1.0;  ///< (rho g)_DEM / (rho g)_model
+};
+ComparedModel compare_model(const std::string& name, const std::string& models_path, const std::string& fields_path,
+                            const PointFields& dem, const Triangulation& mesh, double height,
+                            const std::vector<PointFields>& jackknife) {
+  PointFields raw = read_model_fields(models_path, name);
+  const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
+  const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
+  ComparedModel out{reindex(raw, index, dem.points.size()), nlohmann::json::object(), k.stress};
+  nlohmann::json& m = out.numbers;
+  m["matched_points"] = std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; });
+  if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
+  if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
+  const Region lower_half = [&](const Vec2& c) { return c.y() < 0.5 * height; };
+  m.update(with_jackknife_errors([&](const PointFields& d) { return model_differences(mesh, out.fields, d, lower_half); },
+                                 dem, jackknife));
+  return out;
+}
+
+// The OSL closure's closed loop: the OSL solved with the constants fitted to the DEM's stress
+// (osl_closure_fit) on the fields' mesh, into OUT/closed_loop_osl/, and compared with the DEM as
+// every model is. Null without constants; a note where the solve refuses them.
+nlohmann::json osl_closed_loop(const nlohmann::json& fit, const std::string& fields_path, const std::string& out_dir,
+                               const ModelSolver& solve, const PointFields& dem, const Triangulation& mesh,
+                               double height, const std::vector<PointFields>& jackknife) {
+  const double eta = fit["eta"].get<double>(), mu = fit["mu"].get<double>();
+  if (!std::isfinite(eta) || !std::isfinite(mu)) return nullptr;
+  if (!(eta > 0)) return {{"skipped", "the fitted eta is not positive: the closure is not hyperbolic"}};
+  const std::string dir = in_dir(out_dir, "closed_loop_osl");
+  prepare_output_directory(dir);
+  solve(closed_loop_scene("osl", fields_mesh_file(out_dir), read_fields_attributes(fields_path), {{"eta", eta}, {"mu", mu}}),
+        "(the closed loop of the OSL closure fit)", dir);
+  const ComparedModel compared = compare_model("osl", in_dir(dir, "models.h5"), fields_path, dem, mesh, height, jackknife);
+  nlohmann::json result = compared.numbers;
+  result["stress_scale_dem_over_model"] = compared.stress_scale;
+  result["directory"] = "closed_loop_osl";
+  return result;
+}
+
+}  // namespace
 
 nlohmann::json run_compare(const CompareRunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
@@ -668,16 +744,10 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
   section["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
     for (const std::string& name : model_names(models_path)) {
-      PointFields raw = read_model_fields(models_path, name);
-      const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
-      section["stress_scale_dem_over_model"] = k.stress;
-      const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
-      const PointFields model = reindex(raw, index, dem.points.size());
-      nlohmann::json m = {{"matched_points", std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; })}};
-      if (k.has_change) m["displacement_scale_dem_over_model"] = k.change;
-      if (!k.skipped.empty()) m["displacement_comparison_skipped"] = k.skipped;
-      m.update(with_jackknife_errors([&](const PointFields& d) { return model_differences(mesh, model, d, lower_half); },
-                                     dem, jackknife));
+      const ComparedModel compared = compare_model(name, models_path, fields_path, dem, mesh, height, jackknife);
+      section["stress_scale_dem_over_model"] = compared.stress_scale;
+      const PointFields& model = compared.fields;
+      nlohmann::json m = compared.numbers;
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
         if (!model.has(c) || !dem.has(c)) continue;
         add_field(name + "_" + c, model.at(c), model.valid.at(c));
@@ -732,6 +802,18 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
     section["fpa_angle"] = fpa;
   }
 
+  // 4b. The OSL closure's two constants that best fit the DEM's stress, with their errors, and
+  // the OSL solved with them.
+  if (dem.has("stress_xx") && dem.has("stress_yy") && dem.has("stress_xy")) {
+    nlohmann::json osl = with_jackknife_errors(
+        [&](const PointFields& d) { return osl_closure_fit(mesh, d, apex_x, repose_deg); }, dem, jackknife);
+    if (opt.solve_models) {
+      const nlohmann::json loop = osl_closed_loop(osl, fields_path, opt.out_dir, opt.solve_models, dem, mesh, height, jackknife);
+      if (!loop.is_null()) osl["closed_loop"] = loop;
+    }
+    section["osl_closure_fit"] = osl;
+  }
+
   // 5. Stress-strain fits, when the DEM has strains, and the fit's closed loop.
   if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
     std::vector<FitSample> samples;
@@ -739,8 +821,8 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
     nlohmann::json fit = fit_section(dem, piles, spacing, settings.fit_resamples, settings.fit_folds,
                                      settings.fit_seed, &samples, &fits);
     write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
-    if (opt.solve_gravity_change) {
-      const nlohmann::json loop = closed_loop(fit, fields_path, opt.out_dir, opt.solve_gravity_change);
+    if (opt.solve_models) {
+      const nlohmann::json loop = closed_loop(fit, fields_path, opt.out_dir, opt.solve_models);
       if (!loop.is_null()) fit["closed_loop"] = loop;
     }
     write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);

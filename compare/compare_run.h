@@ -9,16 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/gravity_change_problem.h"
 #include "common/scene_reader.h"
 
 namespace pilelab::compare {
 
-/// Solves a GravityChangeProblem (the fit's closed loop, whose displacements and strains are
-/// then set against the DEM's) and writes the model "elastic" into OUT_DIR/models.h5. The
-/// caller supplies it (the continuum models), so that compare/ needs no finite elements; it is
+/// Solves the continuum models of a [continuum] table given as scene text (the closed loops:
+/// a model with the constants fitted to the DEM, on the fields' mesh, whose fields are then set
+/// against the DEM's) into OUT_DIR/models.h5; `source` names the text in errors. The caller
+/// supplies it (continuum::solve_scene_text), so that compare/ needs no finite elements; it is
 /// called on this process alone.
-using GravityChangeSolver = std::function<void(const GravityChangeProblem&, const std::string& out_dir)>;
+using ModelSolver = std::function<void(const std::string& scene_text, const std::string& source, const std::string& out_dir)>;
 
 struct CompareRunOptions {
   std::string scene_path;
@@ -27,8 +27,8 @@ struct CompareRunOptions {
   /// angle psi = 45 - phi/2 uses it unless compare.repose_angle_deg is given. Without it, the
   /// "dem" section of OUT/report.json is read (a standalone `pilelab compare`).
   std::optional<double> measured_repose_angle_deg;
-  /// Without it, the fit has no closed loop.
-  GravityChangeSolver solve_gravity_change;
+  /// Without it, the fits have no closed loop.
+  ModelSolver solve_models;
 };
 
 /// The [compare] table, read and checked in one place.

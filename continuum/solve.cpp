@@ -145,21 +145,11 @@ nlohmann::json run_solve(const SolveOptions& o) {
   return solve_models(s, o, MPI_COMM_WORLD);
 }
 
-nlohmann::json solve_gravity_change(const GravityChangeProblem& p, const std::string& out_dir) {
-  ContinuumSettings s;
-  s.models = {"elastic"};
-  s.mesh_file = p.mesh_file;
-  s.density_kg_per_m2 = p.density_kg_per_m2;
-  s.gravity_m_per_s2 = p.gravity_m_per_s2;
-  auto elastic = std::make_shared<ElasticSettings>();
-  ElasticSettings& e = *elastic;
-  const double lambda = p.lame_lambda_N_per_m, mu = p.shear_modulus_N_per_m;
-  e.poisson_ratio = lambda / (2.0 * (lambda + mu));
-  e.youngs_modulus_N_per_m = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
-  e.gravity_change = p.gravity_change;
-  s.model_settings["elastic"] = elastic;
+nlohmann::json solve_scene_text(const std::string& text, const std::string& source, const std::string& out_dir) {
+  SceneReader reader(text, source);
+  const ContinuumSettings s = read_continuum_scene(reader, ".");
   SolveOptions o;
-  o.scene_path = "(the closed loop of the fit)";
+  o.scene_path = source;
   o.out_dir = out_dir;
   o.quiet = true;
   return solve_models(s, o, MPI_COMM_SELF);

@@ -7,7 +7,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/gravity_change_problem.h"
 
 namespace pilelab::continuum {
 
@@ -31,11 +30,12 @@ struct SolveOptions {
 /// Must run inside an MPI context (see run_solve_command). Returns the report section.
 nlohmann::json run_solve(const SolveOptions& options);
 
-/// Isotropic elasticity (plane strain, rough base, the default degree) for the relative change
-/// of gravity on the given mesh with the given Lame constants, solved on this process alone (MPI_COMM_SELF), so that one rank can call it while the
-/// others wait, and writes what run_solve writes for the model "elastic" into out_dir. MPI and
-/// PETSc must be running (ParallelContext, or `pilelab run`'s world).
-nlohmann::json solve_gravity_change(const GravityChangeProblem& problem, const std::string& out_dir);
+/// The models of a scene's [continuum] table given as text (continuum.mesh_file naming the
+/// mesh), solved on this process alone (MPI_COMM_SELF) so that one rank can call it while the
+/// others wait, into out_dir, quietly: what run_solve writes. `source` names the text in errors.
+/// MPI and PETSc must be running (ParallelContext, or `pilelab run`'s world). The comparison's
+/// closed loops use it (compare/compare_run.h: ModelSolver).
+nlohmann::json solve_scene_text(const std::string& text, const std::string& source, const std::string& out_dir);
 
 /// run_solve inside its own MPI (and PETSc) context, for the command-line action: MPI is set
 /// up here and torn down on return, so other subcommands never start it.

@@ -85,5 +85,17 @@ TEST_F(Pipeline, ExistingPileThroughTheClosedLoop) {
   ASSERT_TRUE(loop.contains("relative_l2_displacement")) << loop.dump();
   EXPECT_TRUE(std::isfinite(loop["relative_l2_displacement"].get<double>()));
   EXPECT_NEAR(report["coarse"]["gravity_change"].get<double>(), -0.1, 1e-12);
+  // The OSL closure fitted to the DEM's stress, solved with those constants: the scene text
+  // hands them over unrounded, and the closure's stress carries the pile's weight (the base
+  // force is the weight up to the squared equilibrium residual, docs/CONTINUUM.md).
+  const auto& osl = report["compare"]["osl_closure_fit"];
+  ASSERT_TRUE(osl.contains("closed_loop")) << osl.dump();
+  EXPECT_TRUE(std::isfinite(osl["closed_loop"]["relative_l2_stress_yy"].get<double>())) << osl.dump();
+  std::ifstream loop_in(path("out/closed_loop_osl/report.json"));
+  const auto solved = nlohmann::json::parse(loop_in)["continuum"]["osl"];
+  EXPECT_EQ(solved["eta"].get<double>(), osl["eta"].get<double>());
+  EXPECT_EQ(solved["mu"].get<double>(), osl["mu"].get<double>());
+  const double e = solved["equilibrium_residual_over_weight"].get<double>();
+  EXPECT_NEAR(solved["base_force_over_weight"].get<double>(), 1.0 - e * e, 1e-8) << solved.dump();
 #endif
 }

@@ -23,6 +23,7 @@ import pilelab  # noqa: E402
 SOURCE_STYLE = {"dem": dict(color="k", marker="o", ms=3, lw=1.2),
                 "elastic": dict(color="tab:blue", lw=1.8),
                 "fpa": dict(color="tab:red", lw=1.8),
+                "osl": dict(color="tab:purple", lw=1.8),
                 "elastic_fit": dict(color="tab:green", lw=1.8, ls="--")}
 LABEL = {"sigma_yy": r"$\sigma_{yy}/\rho g h$", "sigma_xx": r"$\sigma_{xx}/\rho g h$",
          "sigma_xy": r"$\sigma_{xy}/\rho g h$", "stress_orientation_deg": "major stress axis [deg]",
@@ -143,7 +144,8 @@ def profile_figures(out, data, report):
             if dd:
                 x, v, _ = map(np.array, zip(*sorted(dd)))
                 ax.plot(x, v, color=c, label=q.split("_")[0])
-        for src, st in (("fpa", "--"), ("elastic", ":")):
+        model_sources = sorted({src for src, q in data if src != "dem" and q == "stress_orientation_deg"})
+        for src, st in zip(model_sources, ("--", ":", "-.", (0, (1, 3)))):
             dd = data.get((src, "stress_orientation_deg"), {}).get(h)
             if dd:
                 x, v, _ = map(np.array, zip(*sorted(dd)))

@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/fields_attributes.h"
 #include "common/hdf5_file.h"
+#include "common/isotropic_material.h"
 #include "common/principal_axes.h"
 #include "common/profiles_csv.h"
 #include "common/report.h"
@@ -600,11 +601,10 @@ nlohmann::json closed_loop(const nlohmann::json& fit, const std::string& fields_
   };
   const double lambda = constant("lambda_N_per_m"), mu = constant("mu_N_per_m");
   if (!std::isfinite(lambda) || !std::isfinite(mu)) return nullptr;  // the fit had no data
-  const double nu = lambda / (2 * (lambda + mu));
   const FieldsAttributes fields = read_fields_attributes(fields_path);
   if (fields.gravity_change == 0.0) return nullptr;
   nlohmann::json result = {{"lambda_N_per_m", lambda}, {"mu_N_per_m", mu}};
-  if (!(mu > 0) || !(nu > -1 && nu < 0.5)) {
+  if (!(mu > 0) || !IsotropicMaterial::from_lame(lambda, mu).stable()) {
     result["skipped"] = "the fitted constants are not a stable isotropic material";
     return result;
   }

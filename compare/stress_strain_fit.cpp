@@ -1,5 +1,7 @@
 #include "compare/stress_strain_fit.h"
 
+#include "common/isotropic_material.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -120,8 +122,8 @@ FitResult fit_once(const std::vector<FitSample>& s, FitModel model, double p_ref
 
 }  // namespace
 
-double youngs_modulus(double lambda, double mu) { return mu * (3 * lambda + 2 * mu) / (lambda + mu); }
-double poisson_ratio(double lambda, double mu) { return lambda / (2 * (lambda + mu)); }
+double youngs_modulus(double lambda, double mu) { return IsotropicMaterial::from_lame(lambda, mu).youngs_modulus_N_per_m; }
+double poisson_ratio(double lambda, double mu) { return IsotropicMaterial::from_lame(lambda, mu).poisson_ratio; }
 
 FitResult fit(const std::vector<FitSample>& samples, FitModel model) {
   return fit_once(samples, model, mean_pressure_of(samples));

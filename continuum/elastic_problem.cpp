@@ -17,15 +17,6 @@
 
 namespace pilelab::continuum {
 
-double ElasticSettings::mu() const { return youngs_modulus_N_per_m / (2.0 * (1.0 + poisson_ratio)); }
-
-double ElasticSettings::lambda_2d() const {
-  const double nu = poisson_ratio, E = youngs_modulus_N_per_m;
-  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  if (plane == Plane::strain) return lambda;
-  return 2.0 * lambda * mu() / (lambda + 2.0 * mu());  // = E nu / (1 - nu^2)
-}
-
 using namespace dealii;
 
 namespace {
@@ -42,8 +33,8 @@ ElasticProblem::ElasticProblem(const Triangulation2& tria, const ElasticSettings
     : comm_(tria.get_communicator()),
       tria_(tria),
       settings_(settings),
-      lambda_(settings.lambda_2d()),
-      mu_(settings.mu()),
+      lambda_(settings.material.lambda_2d(settings.plane == ElasticSettings::Plane::stress)),
+      mu_(settings.material.shear_modulus()),
       density_(density),
       gravity_(gravity),
       fe_(FE_SimplexP<2>(settings.degree), 2),

@@ -6,7 +6,7 @@
 //   a(u, v) = int lambda div u div v + 2 mu eps(u) : eps(v) dx,    f = (0, -rho g),
 // rho the areal density (kg/m^2), so that in 2D the stresses sigma = lambda tr(eps) I + 2 mu eps
 // are forces per unit length (N/m) and lambda, mu are in N/m. Plane strain uses Lame's lambda;
-// plane stress the reduced lambda* = 2 lambda mu / (lambda + 2 mu) (ElasticSettings::lambda_2d).
+// plane stress the reduced lambda* = 2 lambda mu / (lambda + 2 mu) (IsotropicMaterial::lambda_2d).
 // Boundary conditions (ids of mesh/pile_mesh.h): base (1) rough, u = 0, or smooth, u_y = 0;
 // side walls (4) smooth, u_x = 0; flanks and top traction-free (natural). A smooth base with no
 // side wall leaves a horizontal rigid translation free: it is removed by fixing u_x at the base
@@ -24,6 +24,7 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include "common/isotropic_material.h"
 #include "continuum/field_output.h"
 #include "continuum/linear_solvers.h"
 #include "continuum/model_problem.h"
@@ -36,18 +37,12 @@ namespace pilelab::continuum {
 /// Isotropic linear elasticity, two-dimensional. Moduli are per unit depth (N/m), like the
 /// DEM's contact stiffness; stresses come out in N/m.
 struct ElasticSettings : ModelSettings {
-  double youngs_modulus_N_per_m = 1.0e7;
-  double poisson_ratio = 0.3;
+  IsotropicMaterial material;  ///< E 1e7 N/m, nu 0.3 by default
   enum class Plane { strain, stress } plane = Plane::strain;
   enum class Base { rough, smooth } base = Base::rough;  ///< rough: u = 0; smooth: u_y = 0
   int degree = 2;                                        ///< FE_SimplexP degree, 1 or 2
   double gravity_change = -0.1;                          ///< relative change of g (DEM relaxation)
   SolverSettings solver;
-
-  /// Lame's first parameter and the shear modulus of the 2D problem: for plane stress the
-  /// effective lambda* = 2 lambda mu / (lambda + 2 mu) replaces lambda.
-  double lambda_2d() const;
-  double mu() const;
 };
 
 struct ElasticResult : ModelResult {

@@ -18,17 +18,17 @@ void read_moduli(ModelTable& t, ElasticSettings& e) {
                              "or lame_lambda_N_per_m and shear_modulus_N_per_m, not both pairs");
     const double lambda = r.require_double(t.key("lame_lambda_N_per_m"), Range::at_least(0.0));
     const double mu = r.require_double(t.key("shear_modulus_N_per_m"), Range::positive());
-    e.poisson_ratio = lambda / (2.0 * (lambda + mu));
-    e.youngs_modulus_N_per_m = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
+    e.material = IsotropicMaterial::from_lame(lambda, mu);
     return;
   }
-  e.youngs_modulus_N_per_m = r.get_double(t.key("youngs_modulus_N_per_m"), e.youngs_modulus_N_per_m, Range::positive());
-  e.poisson_ratio = r.get_double(t.key("poisson_ratio"), e.poisson_ratio, Range{});
-  if (!(e.poisson_ratio < 0.5))
-    throw InputError(src + ": continuum.elastic.poisson_ratio: " + std::to_string(e.poisson_ratio) +
+  IsotropicMaterial& m = e.material;
+  m.youngs_modulus_N_per_m = r.get_double(t.key("youngs_modulus_N_per_m"), m.youngs_modulus_N_per_m, Range::positive());
+  m.poisson_ratio = r.get_double(t.key("poisson_ratio"), m.poisson_ratio, Range{});
+  if (!(m.poisson_ratio < 0.5))
+    throw InputError(src + ": continuum.elastic.poisson_ratio: " + std::to_string(m.poisson_ratio) +
                      " is not allowed: expected -1 < nu < 0.5 (nu = 0.5 is incompressible, which "
                      "the displacement formulation cannot represent)");
-  if (!(e.poisson_ratio > -1.0)) throw InputError(src + ": continuum.elastic.poisson_ratio: expected -1 < nu < 0.5");
+  if (!(m.poisson_ratio > -1.0)) throw InputError(src + ": continuum.elastic.poisson_ratio: expected -1 < nu < 0.5");
 }
 
 std::shared_ptr<const ModelSettings> read(ModelTable& t) {
@@ -54,8 +54,8 @@ nlohmann::json solve(const ModelSettings& settings, ModelContext& c) {
   j["plane"] = e.plane == ElasticSettings::Plane::strain ? "strain" : "stress";
   j["base"] = e.base == ElasticSettings::Base::rough ? "rough" : "smooth";
   j["base_reaction_over_weight"] = problem.result().base_reaction_N / problem.result().weight;
-  j["youngs_modulus_N_per_m"] = e.youngs_modulus_N_per_m;
-  j["poisson_ratio"] = e.poisson_ratio;
+  j["youngs_modulus_N_per_m"] = e.material.youngs_modulus_N_per_m;
+  j["poisson_ratio"] = e.material.poisson_ratio;
   j["gravity_change"] = e.gravity_change;
   // Its displacement and strain are those of this change of g: compare scales them to the DEM's.
   c.fields.back().attributes["gravity_change"] = e.gravity_change;

@@ -278,10 +278,11 @@ void run_pipeline(const RunOptions& opt) {
                       }});
   }
   stages.push_back({"mesh", {"mesh"}, piles, join(scene_paths("mesh", "dem_file"), member_files), {"pile.msh"}, false, [&] {
-                      // An ensemble's mesh: the wedge of the members' mean flanks and height, or
-                      // (kind = "dem_outline") their mean outline.
+                      // The wedge of the pile's flanks and height (an ensemble's: the members'
+                      // means) where the scene sets none, or (kind = "dem_outline") the pile's
+                      // outline (an ensemble's: the mean outline).
                       mesh::MeshRunOptions o{opt.scene_path, opt.out_dir, std::nullopt, member_files, std::nullopt};
-                      if (!ensemble.empty()) o.measured_pile = pile_measured();
+                      o.measured_pile = pile_measured();
                       o.measured_repose_angles_deg = fpa_angles();  // where a DEM outline's rays go
                       mesh::run_mesh(o);
                     }});

@@ -59,6 +59,30 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
         << stage << " was not skipped:\n" << second.output;
 }
 
+// A wedge mesh under `pilelab run` is the poured pile's wedge, one pile as an ensemble: its
+// height, flank angles and apex are the DEM's where the scene sets none (a default 0.33 m,
+// 28-degree wedge around a 7 cm pile would leave most of the mesh without DEM data).
+TEST_F(Pipeline, WedgeMeshTakesThePouredPile) {
+  std::ifstream in(std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny_pipeline.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string toml = text.str();
+  const std::string outline = "kind = \"dem_outline\"";
+  ASSERT_NE(toml.find(outline), std::string::npos);
+  toml.replace(toml.find(outline), outline.size(), "kind = \"wedge\"");
+  const std::string scene = write_scene("wedge.toml", toml);
+  const auto result = run("run " + scene + " -o " + path("out") + " -q");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::ifstream report_in(path("out/report.json"));
+  const auto report = nlohmann::json::parse(report_in);
+  const auto& wedge = report["mesh"]["wedge"];
+  EXPECT_TRUE(wedge["from_dem"].get<bool>()) << wedge.dump();
+  EXPECT_EQ(wedge["height_m"].get<double>(), report["dem"]["height_m"].get<double>());
+  EXPECT_EQ(wedge["left_angle_deg"].get<double>(), report["dem"]["repose_angle_left_deg"].get<double>());
+  EXPECT_EQ(wedge["right_angle_deg"].get<double>(), report["dem"]["repose_angle_right_deg"].get<double>());
+  EXPECT_EQ(wedge["apex_x_m"].get<double>(), report["dem"]["apex_x_m"].get<double>());
+}
+
 // A pipeline without a DEM stage, on a pile poured elsewhere (the coarse tests' fixture), with
 // a relative output directory: mesh, coarse, solve, compare, and the fit's closed loop.
 TEST_F(Pipeline, ExistingPileThroughTheClosedLoop) {

@@ -669,64 +669,26 @@ nlohmann::json osl_closed_loop(const nlohmann::json& fit, const std::string& fie
 
 }  // namespace
 
-nlohmann::json run_compare(const CompareRunOptions& opt) {
-  const auto start = std::chrono::steady_clock::now();
-  SceneReader reader = SceneReader::from_file(opt.scene_path);
-  const CompareSettings settings =
-      read_compare_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
-  reader.reject_unknown({"compare"}, scene_tables());
-  const std::string& fields_path = settings.fields_path;
-  const std::string& models_path = settings.models_path;
+namespace {
 
-  Triangulation mesh;
-  bool on_nodes = true;
-  const PointFields dem = read_dem_fields(fields_path, &mesh, &on_nodes);
-  if (!on_nodes)
-    throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
-  const double height = read_fields_attributes(fields_path).height_m;
-  if (!(height > 0))
-    throw InputError(fields_path + ": root attribute height_m: expected the pile's height (> 0), found " +
-                     std::to_string(height));
-  const double spacing = fit_sample_spacing(fields_path, settings.fit_sample_spacing_m);
-  const PileValues piles = read_pile_values(fields_path);
-  // An ensemble: the DEM's fields with each pile left out in turn, for the jackknife.
-  std::vector<PointFields> jackknife;
-  if (piles_carry_compared_fields(dem, piles))
-    for (std::size_t k = 0; k < piles.size(); ++k) jackknife.push_back(without_pile(dem, piles, k));
-  // The FPA's repose angle: the scene's, else the one the DEM measured (handed over by
-  // `pilelab run`, or read from the DEM's report section); without any, no FPA angle.
-  double repose_deg = settings.repose_angle_deg;
-  if (repose_deg <= 0 && opt.measured_repose_angle_deg) repose_deg = *opt.measured_repose_angle_deg;
-  if (repose_deg <= 0 && !opt.measured_repose_angle_deg)
-    repose_deg = dem::mean_repose_angle_deg(read_report(in_dir(opt.out_dir, "report.json"))).value_or(0.0);
-  // The axis: through the apex, the highest node.
-  double apex_x = 0, top = -INFINITY;
-  for (const Vec2& p : mesh.nodes)
-    if (p.y() > top) top = p.y(), apex_x = p.x();
-  const Region lower_half = [&](const Vec2& c) { return c.y() < 0.5 * height; };
-
-  nlohmann::json section = {{"fields_file", fields_path}, {"height_m", height}, {"apex_x_m", apex_x}};
-  section["standard_errors"] =
-      jackknife.empty() ? nlohmann::json("none (a single pile)")
-                        : nlohmann::json("jackknife over " + std::to_string(jackknife.size()) +
-                                         " piles, the model held fixed: KEY_stderr next to each KEY");
-  std::vector<VtuField> vtu;
-  auto add_field = [&](const std::string& name, const std::vector<double>& v, const std::vector<char>& ok) {
+// The fields of compare.vtu, each 0 where its source has no value (a mask beside it says where).
+struct VtuFields {
+  std::vector<VtuField> fields;
+  void add(const std::string& name, const std::vector<double>& v, const std::vector<char>& ok) {
     VtuField f{name, v};
     for (std::size_t i = 0; i < v.size(); ++i)
       if (!ok[i]) f.values[i] = 0.0;
-    vtu.push_back(std::move(f));
-  };
-  for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
-    if (dem.has(q)) add_field(std::string("dem_") + q, dem.at(q), dem.valid.at(q));
-  // Masks (1 where the source has a value), since a field written as 0 where it has none
-  // cannot tell "no data" from zero; and displacements as vectors for Glyph and Warp.
-  const auto add_mask = [&](const std::string& name, const std::vector<char>& ok) {
+    fields.push_back(std::move(f));
+  }
+  // 1 where the source has a value, since a field written as 0 where it has none cannot tell
+  // "no data" from zero.
+  void add_mask(const std::string& name, const std::vector<char>& ok) {
     VtuField f{name, std::vector<double>(ok.size())};
     for (std::size_t i = 0; i < ok.size(); ++i) f.values[i] = ok[i] ? 1.0 : 0.0;
-    vtu.push_back(std::move(f));
-  };
-  const auto add_vector = [&](const std::string& name, const PointFields& p) {
+    fields.push_back(std::move(f));
+  }
+  // Displacements as vectors, for ParaView's Glyph and Warp.
+  void add_vector(const std::string& name, const PointFields& p) {
     if (!p.has("displacement_x") || !p.has("displacement_y")) return;
     VtuField f{name, std::vector<double>(3 * p.points.size(), 0.0), 3};
     for (std::size_t i = 0; i < p.points.size(); ++i)
@@ -734,111 +696,206 @@ nlohmann::json run_compare(const CompareRunOptions& opt) {
         f.values[3 * i] = p.at("displacement_x")[i];
         f.values[3 * i + 1] = p.at("displacement_y")[i];
       }
-    vtu.push_back(std::move(f));
-  };
-  if (dem.has("stress_yy")) add_mask("dem_has_data", dem.valid.at("stress_yy"));
-  add_vector("dem_displacement", dem);
+    fields.push_back(std::move(f));
+  }
+};
 
-  // 1. Each model against the DEM: its numbers with their errors, and its fields for ParaView.
+const std::vector<std::pair<const char*, const char*>> axis_pairs = {{"stress", "strain"}, {"stress", "fabric"}, {"strain", "fabric"}};
+
+// The comparison of one run, step by step (run()): the DEM's fields read once, with the
+// ensemble's jackknife replicates; each step adds its numbers to the report section and its
+// fields to compare.vtu.
+class Comparison {
+ public:
+  explicit Comparison(const CompareRunOptions& opt);
+  nlohmann::json run();
+
+ private:
+  void compare_models();
+  void dem_misalignment();
+  void profiles();
+  void fpa_angle();
+  void osl_closure();
+  void stress_strain_fits();
+  void write_outputs();
+
+  const CompareRunOptions& opt_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  CompareSettings settings_;
+  Triangulation mesh_;
+  PointFields dem_;
+  double height_ = 0, apex_x_ = 0, repose_deg_ = 0;
+  PileValues piles_;
+  std::vector<PointFields> jackknife_;  ///< an ensemble's fields with each pile left out in turn
+  Region lower_half_;
+  nlohmann::json section_;
+  VtuFields vtu_;
+};
+
+Comparison::Comparison(const CompareRunOptions& opt) : opt_(opt) {
+  SceneReader reader = SceneReader::from_file(opt.scene_path);
+  settings_ = read_compare_scene(reader, std::filesystem::path(opt.scene_path).parent_path().string(), opt.out_dir);
+  reader.reject_unknown({"compare"}, scene_tables());
+  const std::string& fields_path = settings_.fields_path;
+  bool on_nodes = true;
+  dem_ = read_dem_fields(fields_path, &mesh_, &on_nodes);
+  if (!on_nodes)
+    throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
+  height_ = read_fields_attributes(fields_path).height_m;
+  if (!(height_ > 0))
+    throw InputError(fields_path + ": root attribute height_m: expected the pile's height (> 0), found " +
+                     std::to_string(height_));
+  piles_ = read_pile_values(fields_path);
+  if (piles_carry_compared_fields(dem_, piles_))
+    for (std::size_t k = 0; k < piles_.size(); ++k) jackknife_.push_back(without_pile(dem_, piles_, k));
+  // The FPA's repose angle: the scene's, else the one the DEM measured (handed over by
+  // `pilelab run`, or read from the DEM's report section); without any, no FPA angle.
+  repose_deg_ = settings_.repose_angle_deg;
+  if (repose_deg_ <= 0 && opt.measured_repose_angle_deg) repose_deg_ = *opt.measured_repose_angle_deg;
+  if (repose_deg_ <= 0 && !opt.measured_repose_angle_deg)
+    repose_deg_ = dem::mean_repose_angle_deg(read_report(in_dir(opt.out_dir, "report.json"))).value_or(0.0);
+  // The axis: through the apex, the highest node.
+  double top = -INFINITY;
+  for (const Vec2& p : mesh_.nodes)
+    if (p.y() > top) top = p.y(), apex_x_ = p.x();
+  const double h = height_;
+  lower_half_ = [h](const Vec2& c) { return c.y() < 0.5 * h; };
+}
+
+nlohmann::json Comparison::run() {
+  section_ = {{"fields_file", settings_.fields_path}, {"height_m", height_}, {"apex_x_m", apex_x_}};
+  section_["standard_errors"] =
+      jackknife_.empty() ? nlohmann::json("none (a single pile)")
+                         : nlohmann::json("jackknife over " + std::to_string(jackknife_.size()) +
+                                          " piles, the model held fixed: KEY_stderr next to each KEY");
+  for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
+    if (dem_.has(q)) vtu_.add(std::string("dem_") + q, dem_.at(q), dem_.valid.at(q));
+  if (dem_.has("stress_yy")) vtu_.add_mask("dem_has_data", dem_.valid.at("stress_yy"));
+  vtu_.add_vector("dem_displacement", dem_);
+
+  compare_models();
+  dem_misalignment();
+  profiles();
+  fpa_angle();
+  osl_closure();
+  stress_strain_fits();
+  write_outputs();
+  return section_;
+}
+
+// 1. Each model against the DEM: its numbers with their errors, and its fields for ParaView.
+void Comparison::compare_models() {
+  const std::string& models_path = settings_.models_path;
   nlohmann::json models = nlohmann::json::object();
-  section["stress_scale_dem_over_model"] = 1.0;
+  section_["stress_scale_dem_over_model"] = 1.0;
   if (std::filesystem::exists(models_path)) {
     for (const std::string& name : model_names(models_path)) {
-      const ComparedModel compared = compare_model(name, models_path, fields_path, dem, mesh, height, jackknife);
-      section["stress_scale_dem_over_model"] = compared.stress_scale;
+      const ComparedModel compared = compare_model(name, models_path, settings_.fields_path, dem_, mesh_, height_, jackknife_);
+      section_["stress_scale_dem_over_model"] = compared.stress_scale;
       const PointFields& model = compared.fields;
-      nlohmann::json m = compared.numbers;
       for (const char* c : {"stress_xx", "stress_yy", "stress_xy"}) {
-        if (!model.has(c) || !dem.has(c)) continue;
-        add_field(name + "_" + c, model.at(c), model.valid.at(c));
-        std::vector<double> d(dem.points.size());
-        for (std::size_t i = 0; i < d.size(); ++i) d[i] = model.at(c)[i] - dem.at(c)[i];
-        add_field(name + "_minus_dem_" + c, d, both(model.valid.at(c), dem.valid.at(c)));
+        if (!model.has(c) || !dem_.has(c)) continue;
+        vtu_.add(name + "_" + c, model.at(c), model.valid.at(c));
+        std::vector<double> d(dem_.points.size());
+        for (std::size_t i = 0; i < d.size(); ++i) d[i] = model.at(c)[i] - dem_.at(c)[i];
+        vtu_.add(name + "_minus_dem_" + c, d, both(model.valid.at(c), dem_.valid.at(c)));
       }
       std::vector<char> axis_ok;
-      if (const auto angle = axis_angle_to_dem(model, dem, axis_ok)) add_field(name + "_axis_angle_to_dem_deg", *angle, axis_ok);
-      if (model.has("displacement_x") && dem.has("displacement_x")) {
-        add_field(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
-        add_field(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
-        add_vector(name + "_displacement", model);
+      if (const auto angle = axis_angle_to_dem(model, dem_, axis_ok)) vtu_.add(name + "_axis_angle_to_dem_deg", *angle, axis_ok);
+      if (model.has("displacement_x") && dem_.has("displacement_x")) {
+        vtu_.add(name + "_displacement_x", model.at("displacement_x"), model.valid.at("displacement_x"));
+        vtu_.add(name + "_displacement_y", model.at("displacement_y"), model.valid.at("displacement_y"));
+        vtu_.add_vector(name + "_displacement", model);
       }
-      if (model.has("stress_yy")) add_mask(name + "_has_data", model.valid.at("stress_yy"));
-      models[name] = m;
+      if (model.has("stress_yy")) vtu_.add_mask(name + "_has_data", model.valid.at("stress_yy"));
+      models[name] = compared.numbers;
     }
   }
-  section["models_file"] = std::filesystem::exists(models_path) ? models_path : "";
-  section["models"] = models;
+  section_["models_file"] = std::filesystem::exists(models_path) ? models_path : "";
+  section_["models"] = models;
+}
 
-  // 2. Within the DEM: misalignment of stress, strain and fabric axes (the paper's Fig. 15).
+// 2. Within the DEM: misalignment of stress, strain and fabric axes (the paper's Fig. 15).
+void Comparison::dem_misalignment() {
   nlohmann::json misalignment = nlohmann::json::object();
-  const std::vector<std::pair<const char*, const char*>> pairs = {{"stress", "strain"}, {"stress", "fabric"}, {"strain", "fabric"}};
-  for (const auto& [a, b] : pairs) {
+  for (const auto& [a, b] : axis_pairs) {
     const std::string qa = std::string(a) + "_orientation_deg", qb = std::string(b) + "_orientation_deg";
-    if (!dem.has(qa) || !dem.has(qb)) continue;
-    std::vector<char> ok = both(dem.valid.at(qa), dem.valid.at(qb));
-    std::vector<double> angle(dem.points.size(), 0.0);
+    if (!dem_.has(qa) || !dem_.has(qb)) continue;
+    std::vector<char> ok = both(dem_.valid.at(qa), dem_.valid.at(qb));
+    std::vector<double> angle(dem_.points.size(), 0.0);
     for (std::size_t i = 0; i < angle.size(); ++i)
-      if (ok[i]) angle[i] = axis_angle_deg(dem.at(qa)[i], dem.at(qb)[i]);
+      if (ok[i]) angle[i] = axis_angle_deg(dem_.at(qa)[i], dem_.at(qb)[i]);
     const std::string name = std::string("misalignment_") + a + "_" + b + "_deg";
-    misalignment[name] = {{"mean", area_mean(mesh, angle, ok)}, {"mean_lower_half", area_mean(mesh, angle, ok, lower_half)}};
-    add_field("dem_" + name, angle, ok);
+    misalignment[name] = {{"mean", area_mean(mesh_, angle, ok)}, {"mean_lower_half", area_mean(mesh_, angle, ok, lower_half_)}};
+    vtu_.add("dem_" + name, angle, ok);
   }
-  section["dem_misalignment"] = misalignment;
+  section_["dem_misalignment"] = misalignment;
+}
 
-  // 3. Profiles: the base dip of every source, and the misalignment along the DEM's cuts.
-  const std::string csv = in_dir(opt.out_dir, "profiles.csv");
-  if (std::filesystem::exists(csv)) {
-    const auto rows = read_profile_values(csv);
-    section["base_pressure_dip"] = base_pressure_dips(rows, apex_x);
-    write_misalignment_profiles(csv, rows, pairs);
+// 3. Profiles: the base dip of every source, and the misalignment along the DEM's cuts.
+void Comparison::profiles() {
+  const std::string csv = in_dir(opt_.out_dir, "profiles.csv");
+  if (!std::filesystem::exists(csv)) return;
+  const auto rows = read_profile_values(csv);
+  section_["base_pressure_dip"] = base_pressure_dips(rows, apex_x_);
+  write_misalignment_profiles(csv, rows, axis_pairs);
+}
+
+// 4. The FPA angle that best fits the DEM's stress axes, with its error over the piles.
+void Comparison::fpa_angle() {
+  if (!dem_.has("stress_orientation_deg")) return;
+  nlohmann::json fpa =
+      with_jackknife_errors([&](const PointFields& d) { return fpa_angle_fit(mesh_, d, apex_x_); }, dem_, jackknife_);
+  fpa["repose_angle_deg"] = repose_deg_;
+  fpa["psi_fpa_deg"] = repose_deg_ > 0 ? 45.0 - 0.5 * repose_deg_ : 0.0;
+  section_["fpa_angle"] = fpa;
+}
+
+// 5. The OSL closure's two constants that best fit the DEM's stress, with their errors, and the
+// OSL solved with them.
+void Comparison::osl_closure() {
+  if (!dem_.has("stress_xx") || !dem_.has("stress_yy") || !dem_.has("stress_xy")) return;
+  nlohmann::json osl = with_jackknife_errors(
+      [&](const PointFields& d) { return osl_closure_fit(mesh_, d, apex_x_, repose_deg_); }, dem_, jackknife_);
+  if (opt_.solve_models) {
+    const nlohmann::json loop =
+        osl_closed_loop(osl, settings_.fields_path, opt_.out_dir, opt_.solve_models, dem_, mesh_, height_, jackknife_);
+    if (!loop.is_null()) osl["closed_loop"] = loop;
   }
+  section_["osl_closure_fit"] = osl;
+}
 
-  // 4. The FPA angle that best fits the DEM's stress axes, with its error over the piles.
-  if (dem.has("stress_orientation_deg")) {
-    nlohmann::json fpa =
-        with_jackknife_errors([&](const PointFields& d) { return fpa_angle_fit(mesh, d, apex_x); }, dem, jackknife);
-    fpa["repose_angle_deg"] = repose_deg;
-    fpa["psi_fpa_deg"] = repose_deg > 0 ? 45.0 - 0.5 * repose_deg : 0.0;
-    section["fpa_angle"] = fpa;
+// 6. Stress-strain fits, when the DEM has strains, and the fit's closed loop.
+void Comparison::stress_strain_fits() {
+  if (!dem_.has("strain_xx") || !dem_.has("stress_change_xx")) return;
+  std::vector<FitSample> samples;
+  std::vector<FitResult> fits;
+  const double spacing = fit_sample_spacing(settings_.fields_path, settings_.fit_sample_spacing_m);
+  nlohmann::json fit = fit_section(dem_, piles_, spacing, settings_.fit_resamples, settings_.fit_folds,
+                                   settings_.fit_seed, &samples, &fits);
+  write_fit_samples(in_dir(opt_.out_dir, "fit_samples.csv"), samples, fits);
+  if (opt_.solve_models) {
+    const nlohmann::json loop = closed_loop(fit, settings_.fields_path, opt_.out_dir, opt_.solve_models);
+    if (!loop.is_null()) fit["closed_loop"] = loop;
   }
+  write_report_section(in_dir(opt_.out_dir, "report.json"), "fit", fit);
+}
 
-  // 4b. The OSL closure's two constants that best fit the DEM's stress, with their errors, and
-  // the OSL solved with them.
-  if (dem.has("stress_xx") && dem.has("stress_yy") && dem.has("stress_xy")) {
-    nlohmann::json osl = with_jackknife_errors(
-        [&](const PointFields& d) { return osl_closure_fit(mesh, d, apex_x, repose_deg); }, dem, jackknife);
-    if (opt.solve_models) {
-      const nlohmann::json loop = osl_closed_loop(osl, fields_path, opt.out_dir, opt.solve_models, dem, mesh, height, jackknife);
-      if (!loop.is_null()) osl["closed_loop"] = loop;
-    }
-    section["osl_closure_fit"] = osl;
-  }
-
-  // 5. Stress-strain fits, when the DEM has strains, and the fit's closed loop.
-  if (dem.has("strain_xx") && dem.has("stress_change_xx")) {
-    std::vector<FitSample> samples;
-    std::vector<FitResult> fits;
-    nlohmann::json fit = fit_section(dem, piles, spacing, settings.fit_resamples, settings.fit_folds,
-                                     settings.fit_seed, &samples, &fits);
-    write_fit_samples(in_dir(opt.out_dir, "fit_samples.csv"), samples, fits);
-    if (opt.solve_models) {
-      const nlohmann::json loop = closed_loop(fit, fields_path, opt.out_dir, opt.solve_models);
-      if (!loop.is_null()) fit["closed_loop"] = loop;
-    }
-    write_report_section(in_dir(opt.out_dir, "report.json"), "fit", fit);
-  }
-
-  // 6. Everything side by side for ParaView, and the report.
+// 7. Everything side by side for ParaView, and the report.
+void Comparison::write_outputs() {
   std::vector<std::array<double, 2>> nodes;
-  for (const auto& p : mesh.nodes) nodes.push_back({p.x(), p.y()});
-  write_triangle_vtu(in_dir(opt.out_dir, "compare.vtu"), nodes, mesh.triangles, vtu);
+  for (const auto& p : mesh_.nodes) nodes.push_back({p.x(), p.y()});
+  write_triangle_vtu(in_dir(opt_.out_dir, "compare.vtu"), nodes, mesh_.triangles, vtu_.fields);
   // A one-entry collection, so ParaView opens the comparison like the DEM's dem.pvd.
-  write_text_atomically(in_dir(opt.out_dir, "compare.pvd"),
+  write_text_atomically(in_dir(opt_.out_dir, "compare.pvd"),
                         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n"
                         "    <DataSet timestep=\"0\" part=\"0\" file=\"compare.vtu\"/>\n  </Collection>\n</VTKFile>\n");
-  section["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  write_report_section(in_dir(opt.out_dir, "report.json"), "compare", section);
-  return section;
+  section_["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  write_report_section(in_dir(opt_.out_dir, "report.json"), "compare", section_);
 }
+
+}  // namespace
+
+nlohmann::json run_compare(const CompareRunOptions& opt) { return Comparison(opt).run(); }
 
 }  // namespace pilelab::compare

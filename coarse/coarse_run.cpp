@@ -429,6 +429,60 @@ FieldSummary summarise_fields(const Samples& fields) {
 
 }  // namespace
 
+namespace {
+
+// The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
+// when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
+// (pile size / w)^2 cells. Checked where d is first known: an explicit width before the RVE
+// study, the default (the RVE radius) once the study has chosen it.
+void check_kernel_width(double w, const std::string& origin, const CoarseSettings& settings, double diameter,
+                        const std::string& scene_path) {
+  if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
+  std::ostringstream m;
+  m << scene_path << ": coarse.kernel_width_m" << origin << " is " << w
+    << " m, but the kernel averages need a width of at least the mean grain diameter of "
+    << (settings.dem_files.size() > 1 ? "the piles in coarse.dem_files" : settings.dem_files.front())
+    << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter << " m, or 0 for the RVE radius";
+  throw InputError(m.str());
+}
+
+// An RVE must hold grains: below one grain diameter most windows hold no grain's centre and the
+// fields are empty (the paper's RVEs hold 100-200). One larger than the pile averages the whole
+// pile at every point: finite, uniform, and said so.
+void check_rve_radius(const CoarseSettings& settings, double diameter, double pile_height, const std::string& scene_path) {
+  if (settings.rve_radius_m > 0 && settings.rve_radius_m < diameter) {
+    std::ostringstream m;
+    m << scene_path << ": coarse.rve_radius_m is " << settings.rve_radius_m
+      << " m, smaller than the mean grain diameter " << diameter
+      << " m: such an RVE holds a few grains at most (the paper's hold 100-200); allowed: >= " << diameter
+      << " m, or 0 to size it by coarse.rve_grain_count";
+    throw InputError(m.str());
+  }
+  if (settings.rve_radius_m > pile_height)
+    std::fprintf(stderr,
+                 "warning: coarse.rve_radius_m = %g m exceeds the pile's height %g m: the RVEs reach beyond the pile, "
+                 "and far from the pile's centre each averages most of it, so the fields are smoothed flat\n",
+                 settings.rve_radius_m, pile_height);
+}
+
+// What fields.h5 says of how its fields were made (common/fields_attributes.h).
+FieldsAttributes fields_attributes(const CoarseSettings& settings, const PileSet& set, double radius, double kernel_width) {
+  FieldsAttributes a;
+  a.method = settings.method == CoarseSettings::Method::rve ? std::string("rve") : settings.kernel;
+  a.rve_radius_m = radius;
+  a.kernel_width_m = settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width;
+  a.piles = static_cast<std::int64_t>(set.piles.size());
+  a.snapshot = settings.snapshot;
+  a.strain_to = set.piles_with_strains ? settings.strain_to : std::string("");
+  a.gravity_change = set.gravity_change;
+  a.height_m = set.mean_height;
+  a.rho_bulk_kg_per_m2 = set.rho_bulk;
+  a.gravity_m_per_s2 = set.gravity;
+  return a;
+}
+
+}  // namespace
+
 nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const auto start = Clock::now();
   SceneReader reader = SceneReader::from_file(opt.scene_path);
@@ -452,37 +506,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
     }
   }
   const double diameter = set.diameter();
-  // The kernel's branch quadrature (5 points along a branch about a diameter long) holds only
-  // when the kernel is smooth on that scale, w >= d; a smaller w also gives a grain grid of
-  // (pile size / w)^2 cells. Checked here, the first place d is known: an explicit width before
-  // the RVE study, the default (the RVE radius) once the study has chosen it.
-  auto check_kernel_width = [&](double w, const std::string& origin) {
-    if (settings.method == CoarseSettings::Method::rve || w >= diameter) return;
-    std::ostringstream m;
-    m << opt.scene_path << ": coarse.kernel_width_m" << origin << " is " << w
-      << " m, but the kernel averages need a width of at least the mean grain diameter of "
-      << (settings.dem_files.size() > 1 ? "the piles in coarse.dem_files" : settings.dem_files.front())
-      << " (snapshot '" << settings.snapshot << "'): allowed: >= " << diameter
-      << " m, or 0 for the RVE radius";
-    throw InputError(m.str());
-  };
-  if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "");
-  // An RVE must hold grains: below one grain diameter most windows hold no grain's centre and
-  // the fields are empty (the paper's RVEs hold 100-200). One larger than the pile averages the
-  // whole pile at every point: finite, uniform, and said so.
-  if (settings.rve_radius_m > 0 && settings.rve_radius_m < diameter) {
-    std::ostringstream m;
-    m << opt.scene_path << ": coarse.rve_radius_m is " << settings.rve_radius_m
-      << " m, smaller than the mean grain diameter " << diameter
-      << " m: such an RVE holds a few grains at most (the paper's hold 100-200); allowed: >= " << diameter
-      << " m, or 0 to size it by coarse.rve_grain_count";
-    throw InputError(m.str());
-  }
-  if (settings.rve_radius_m > set.mean_height)
-    std::fprintf(stderr,
-                 "warning: coarse.rve_radius_m = %g m exceeds the pile's height %g m: the RVEs reach beyond the pile, "
-                 "and far from the pile's centre each averages most of it, so the fields are smoothed flat\n",
-                 settings.rve_radius_m, set.mean_height);
+  if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "", settings, diameter, opt.scene_path);
+  check_rve_radius(settings, diameter, set.mean_height, opt.scene_path);
 
   // 2. RVE-size study (paper Figs. 5-6): at each point, each quantity against the grain count;
   // it chooses the window's size unless the scene sets it.
@@ -499,7 +524,8 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   const double radius = settings.rve_radius_m > 0 ? settings.rve_radius_m : set.radius_for(grain_count_target);
   // Default kernel width: the RVE radius, so that both windows average over as many grains.
   const double kernel_width = settings.kernel_width_m > 0 ? settings.kernel_width_m : radius;
-  check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)");
+  check_kernel_width(kernel_width, " (0: the RVE radius, from coarse.rve_radius_m or rve_grain_count)", settings, diameter,
+                     opt.scene_path);
   if (settings.method == CoarseSettings::Method::kernel) {
     const Kernel kernel(kernel_shape(settings.kernel), kernel_width);
     for (Pile& p : piles) {
@@ -527,17 +553,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   write_profile_values(out("profiles.csv"), profile_rows(settings, domain, sampler, set.mean_height, stress_scale));
 
   // 5. The files and the report.
-  FieldsAttributes attributes;
-  attributes.method = settings.method == CoarseSettings::Method::rve ? std::string("rve") : settings.kernel;
-  attributes.rve_radius_m = radius;
-  attributes.kernel_width_m = settings.method == CoarseSettings::Method::rve ? 0.0 : kernel_width;
-  attributes.piles = static_cast<std::int64_t>(piles.size());
-  attributes.snapshot = settings.snapshot;
-  attributes.strain_to = set.piles_with_strains ? settings.strain_to : std::string("");
-  attributes.gravity_change = set.gravity_change;
-  attributes.height_m = set.mean_height;
-  attributes.rho_bulk_kg_per_m2 = set.rho_bulk;
-  attributes.gravity_m_per_s2 = set.gravity;
+  const FieldsAttributes attributes = fields_attributes(settings, set, radius, kernel_width);
   write_fields_h5(out("fields.h5"), mesh, on_nodes, points, fields, attributes);
   write_vtu(out("fields.vtu"), mesh, on_nodes, fields, piles.size() > 1);
 

@@ -292,6 +292,57 @@ struct InterruptGuard {
 };
 }  // namespace
 
+namespace {
+
+// The end of an interrupted run: the checkpoint was just written; say how to continue, and exit
+// as a shell reports a process ended by the signal.
+[[noreturn]] void exit_interrupted(const World& world, const std::string& checkpoint_path, const DemRunOptions& opt) {
+  const int signal = interrupted_by;
+  std::fprintf(stderr,
+               "interrupted by %s at t = %.6f s (step %lld); the checkpoint %s holds the run: continue with "
+               "`pilelab dem %s -o %s --restart` (or `pilelab run ... --restart`)\n",
+               signal == SIGINT ? "SIGINT" : "SIGTERM", world.time(), static_cast<long long>(world.steps()),
+               checkpoint_path.c_str(), opt.scene_path.c_str(), opt.out_dir.c_str());
+  std::fflush(stderr);
+  std::_Exit(128 + signal);
+}
+
+// The finished pour's files: dem.h5 (refused if no grain is left), the report section and its
+// warnings.
+nlohmann::json finish_pour(const DemRunOptions& opt, const DemScene& scene, const std::string& scene_text,
+                           PileProtocol& protocol, const RunCounters& counters, int threads) {
+  const World& world = protocol.world();
+  nlohmann::json run_info;
+  run_info["seed"] = scene.seed;
+  run_info["time_step_s"] = world.settings().time_step;
+  run_info["integrator"] = scheme_name(scene.scheme);
+  run_info["scene_file"] = recorded_scene_path(opt.scene_path, opt.out_dir);
+  // Checked before anything is written: a failed run leaves no dem.h5 for later stages to read.
+  if (world.active_grains().empty())
+    throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
+                     std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
+                     "): check that dem.pour.funnel_x_m lies over the plate (dem.container.plate_width_m), and that "
+                     "grains cannot pass through it: contacts too soft for the impact speed (dem.contact."
+                     "youngs_modulus_N_per_m, dem.gravity_m_per_s2, dem.pour.funnel_height_m) or a forced "
+                     "dem.integrator.time_step_s");
+  write_dem_file(opt.out_dir + "/dem.h5", scene_text, world, protocol.snapshots(), protocol.wall_placements(),
+                 run_info);
+  nlohmann::json report = dem_report(protocol, counters, threads);
+  report["warnings"] = run_warnings(protocol, report);
+  // Warnings print even with --quiet, which silences progress only.
+  for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
+  write_report_section(opt.out_dir + "/report.json", "dem", report);
+  if (!opt.quiet)
+    std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",
+                 world.active_grains().size(), report["height_m"].get<double>(),
+                 report["repose_angle_left_deg"].is_number() ? report["repose_angle_left_deg"].get<double>() : NAN,
+                 report["repose_angle_right_deg"].is_number() ? report["repose_angle_right_deg"].get<double>() : NAN,
+                 counters.wall_time, report["particle_steps_per_s"].get<double>());
+  return report;
+}
+
+}  // namespace
+
 nlohmann::json run_dem(const DemRunOptions& opt) {
   SceneReader reader = SceneReader::from_file(opt.scene_path);
   reader.get_string("scene.name", "");
@@ -370,16 +421,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
       count_this_session();
       write_checkpoint(checkpoint_path, reader.text(), protocol, counters);
     }
-    if (interrupted) {
-      const int signal = interrupted_by;
-      std::fprintf(stderr,
-                   "interrupted by %s at t = %.6f s (step %lld); the checkpoint %s holds the run: continue with "
-                   "`pilelab dem %s -o %s --restart` (or `pilelab run ... --restart`)\n",
-                   signal == SIGINT ? "SIGINT" : "SIGTERM", world.time(), static_cast<long long>(world.steps()),
-                   checkpoint_path.c_str(), opt.scene_path.c_str(), opt.out_dir.c_str());
-      std::fflush(stderr);
-      std::_Exit(128 + signal);  // as a shell reports a process ended by the signal
-    }
+    if (interrupted) exit_interrupted(world, checkpoint_path, opt);
     if (stop_now) {
       if (!opt.quiet) std::fprintf(stderr, "stopped after %lld steps as asked; continue with --restart\n",
                                    static_cast<long long>(opt.stop_after_steps));
@@ -399,34 +441,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   }
   count_this_session();
   frames.write(world, counters.frame_times);
-
-  nlohmann::json run_info;
-  run_info["seed"] = scene.seed;
-  run_info["time_step_s"] = world.settings().time_step;
-  run_info["integrator"] = scheme_name(scene.scheme);
-  run_info["scene_file"] = recorded_scene_path(opt.scene_path, opt.out_dir);
-  // Checked before anything is written: a failed run leaves no dem.h5 for later stages to read.
-  if (world.active_grains().empty())
-    throw InputError(opt.scene_path + ": no grain is left on the plate at the end (poured " +
-                     std::to_string(protocol.state().poured) + ", lost " + std::to_string(protocol.state().lost) +
-                     "): check that dem.pour.funnel_x_m lies over the plate (dem.container.plate_width_m), and that "
-                     "grains cannot pass through it: contacts too soft for the impact speed (dem.contact."
-                     "youngs_modulus_N_per_m, dem.gravity_m_per_s2, dem.pour.funnel_height_m) or a forced "
-                     "dem.integrator.time_step_s");
-  write_dem_file(opt.out_dir + "/dem.h5", reader.text(), world, protocol.snapshots(), protocol.wall_placements(),
-                 run_info);
-  nlohmann::json report = dem_report(protocol, counters, threads);
-  report["warnings"] = run_warnings(protocol, report);
-  // Warnings print even with --quiet, which silences progress only.
-  for (const auto& w : report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
-  write_report_section(opt.out_dir + "/report.json", "dem", report);
-  if (!opt.quiet)
-    std::fprintf(stderr, "done: %zu grains, height %.4f m, repose angles %.1f / %.1f deg, %.3g s wall, %.3g grain-steps/s\n",
-                 world.active_grains().size(), report["height_m"].get<double>(),
-                 report["repose_angle_left_deg"].is_number() ? report["repose_angle_left_deg"].get<double>() : NAN,
-                 report["repose_angle_right_deg"].is_number() ? report["repose_angle_right_deg"].get<double>() : NAN,
-                 counters.wall_time, report["particle_steps_per_s"].get<double>());
-  return report;
+  return finish_pour(opt, scene, reader.text(), protocol, counters, threads);
 }
 
 }  // namespace pilelab::dem

@@ -164,6 +164,57 @@ std::optional<mesh::Wedge> measured_pile(const std::string& out_dir, const Ensem
   return mesh::Wedge{sample_statistics(height).mean, l.mean, r.mean, sample_statistics(apex).mean};
 }
 
+// The angles the FPA will take (continuum/models/fpa.cpp): the scene's [continuum.fpa] angles
+// if it gives any and does not ask for the DEM's, else the measured pile's.
+std::optional<std::array<double, 2>> fpa_angles_of(const toml::table& scene, const std::optional<mesh::Wedge>& pile) {
+  const auto fpa = scene["continuum"]["fpa"];
+  const bool from_dem = fpa["repose_angle_source"].value_or(std::string("scene")) == "dem";
+  const std::optional<double> both = fpa["repose_angle_deg"].value<double>();
+  const std::optional<double> left = fpa["left_repose_angle_deg"].value<double>();
+  const std::optional<double> right = fpa["right_repose_angle_deg"].value<double>();
+  if (!from_dem && (both || left || right))
+    return std::array<double, 2>{left.value_or(both.value_or(28.0)), right.value_or(both.value_or(28.0))};
+  if (pile) return std::array<double, 2>{pile->left_angle_deg, pile->right_angle_deg};
+  return std::nullopt;
+}
+
+// Runs a stage where it runs (every rank, or rank 0 alone); a stage that failed on one rank
+// ends the run on all, with the message where it arose.
+void run_on_ranks(const Stage& stage, MpiWorld* world, bool root) {
+  if (stage.every_rank || root) {
+    bool failed = false;
+    std::string message;
+    try {
+      stage.run();
+    } catch (...) {
+      if (!world) throw;
+      failed = true;
+      try {
+        throw;
+      } catch (const std::exception& e) {
+        message = e.what();
+      }
+    }
+    if (world && world->any(failed)) {
+      if (failed) throw std::runtime_error(message);
+      throw std::runtime_error("stage " + stage.name + " failed on another rank");
+    }
+  } else if (world) {
+    world->any(false);
+  }
+}
+
+// Figures from whatever ran (Debian's python3 with matplotlib and h5py), by a child that dies
+// with this process: a killed run leaves no script writing into OUT.
+void draw_figures(const RunOptions& opt) {
+  const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
+  if (!std::filesystem::exists("/usr/bin/python3") || !std::filesystem::exists(script)) return;
+  const int code = wait_for_child(start_child({"/usr/bin/python3", script, opt.out_dir}, opt.quiet ? "/dev/null" : ""));
+  if (code != 0)
+    throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
+                             std::to_string(code) + ")");
+}
+
 void run_pipeline(const RunOptions& opt) {
   const auto invocation_start = std::chrono::steady_clock::now();
   // MPI, if a stage starts it, ends with the run (also when a stage throws).
@@ -236,19 +287,7 @@ void run_pipeline(const RunOptions& opt) {
     return *measured;
   };
 
-  // The angles the FPA will take (continuum/solve.cpp, apply_measured_pile): the scene's
-  // [continuum.fpa] angles if it gives any and does not ask for the DEM's, else the measured.
-  const auto fpa_angles = [&]() -> std::optional<std::array<double, 2>> {
-    const auto fpa = toml_scene["continuum"]["fpa"];
-    const bool from_dem = fpa["repose_angle_source"].value_or(std::string("scene")) == "dem";
-    const std::optional<double> both = fpa["repose_angle_deg"].value<double>();
-    const std::optional<double> left = fpa["left_repose_angle_deg"].value<double>();
-    const std::optional<double> right = fpa["right_repose_angle_deg"].value<double>();
-    if (!from_dem && (both || left || right)) return std::array<double, 2>{left.value_or(both.value_or(28.0)),
-                                                                           right.value_or(both.value_or(28.0))};
-    if (const auto& pile = pile_measured()) return std::array<double, 2>{pile->left_angle_deg, pile->right_angle_deg};
-    return std::nullopt;
-  };
+  const auto fpa_angles = [&] { return fpa_angles_of(toml_scene, pile_measured()); };
 
   // Each stage: its tables, its inputs, its outputs, whether every rank takes part, its action.
   std::vector<Stage> stages;
@@ -352,28 +391,7 @@ void run_pipeline(const RunOptions& opt) {
     }
     if (root) std::fprintf(stderr, "pilelab run: %-8s running\n", stage.name.c_str());
     const auto start = std::chrono::steady_clock::now();
-    if (stage.every_rank || root) {
-      bool failed = false;
-      std::string message;
-      try {
-        stage.run();
-      } catch (...) {
-        if (!world) throw;
-        failed = true;
-        try {
-          throw;
-        } catch (const std::exception& e) {
-          message = e.what();
-        }
-      }
-      // A stage that failed on one rank ends the run on all, with the message where it arose.
-      if (world && world->any(failed)) {
-        if (failed) throw std::runtime_error(message);
-        throw std::runtime_error("stage " + stage.name + " failed on another rank");
-      }
-    } else if (world) {
-      world->any(false);
-    }
+    run_on_ranks(stage, world, root);
     upstream_ran = true;
     if (root) {
       if (!opt.quiet)
@@ -386,15 +404,7 @@ void run_pipeline(const RunOptions& opt) {
     }
   }
 
-  // Figures from whatever ran (Debian's python3 with matplotlib and h5py).
-  const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
-  // A child that dies with this process: a killed run leaves no script writing into OUT.
-  if (root && opt.figures && std::filesystem::exists("/usr/bin/python3") && std::filesystem::exists(script)) {
-    const int code = wait_for_child(start_child({"/usr/bin/python3", script, opt.out_dir}, opt.quiet ? "/dev/null" : ""));
-    if (code != 0)
-      throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
-                               std::to_string(code) + ")");
-  }
+  if (root && opt.figures) draw_figures(opt);
   if (root) print_summary(opt.out_dir, std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation_start).count());
 }
 

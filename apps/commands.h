@@ -1,9 +1,16 @@
 #pragma once
 // One function per pilelab subcommand. Each registers its options and the action that runs
 // when the subcommand is chosen; the action throws InputError for bad input (exit code 2).
+#include <stdexcept>
+
 #include <CLI/CLI.hpp>
 
 namespace pilelab::app {
+
+/// A run that finished with status "fail" (apps/run_status.h): exit code 3.
+struct FailedRun : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 void add_dem_command(CLI::App& app);
 void add_mesh_command(CLI::App& app);

@@ -1,6 +1,7 @@
 // The pilelab command: one subcommand per stage of the pipeline, each in its own file
 // (apps/*_command.cpp). Thin by design: a subcommand parses its options and calls the
-// library; errors are printed once, plainly, with exit code 2 for bad input.
+// library; errors are printed once, plainly, with exit code 2 for bad input and 3 for a run
+// whose status is fail (apps/run_status.h).
 #include <cstdio>
 #include <exception>
 
@@ -30,6 +31,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // --help and --version end here with 0; a bad option or a missing file is bad input.
     return app.exit(e) == 0 ? 0 : 2;
+  } catch (const pilelab::app::FailedRun& e) {
+    std::fprintf(stderr, "pilelab: run failed: %s\n", e.what());
+    return 3;
   } catch (const pilelab::InputError& e) {
     std::fprintf(stderr, "pilelab: error: %s\n", e.what());
     return 2;

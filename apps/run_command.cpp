@@ -19,6 +19,7 @@
 
 #include "apps/child_process.h"
 #include "apps/commands.h"
+#include "apps/run_status.h"
 #include "apps/ensemble_members.h"
 #include "apps/parallel.h"
 #include "apps/scene_check.h"
@@ -51,6 +52,7 @@ struct RunOptions {
   bool figures = true;   ///< scripts/figures.py after the stages
   int threads = 0;
   int processes = 1;     ///< ensemble members poured side by side as processes
+  bool allow_unsettled = false;  ///< a pile unfit for the later stages only warns (apps/run_status.h)
 };
 
 // FNV-1a, 64 bit: a fingerprint, not a security hash.
@@ -215,6 +217,28 @@ void draw_figures(const RunOptions& opt) {
                              std::to_string(code) + ")");
 }
 
+// The run's status: every pile's findings and the later stages', into report.json and on the
+// console; a fail ends the run with exit code 3.
+void report_status(const RunOptions& opt, const EnsembleSpec& ensemble, bool stopped) {
+  RunStatus status;
+  status.allow_unsettled = opt.allow_unsettled;
+  assess_piles(opt.out_dir, ensemble, status);
+  const std::string report_path = (std::filesystem::path(opt.out_dir) / "report.json").string();
+  if (!stopped && std::filesystem::exists(report_path)) assess_later_stages(read_report(report_path), status);
+  nlohmann::json section = status.to_json();
+  section["later_stages_ran"] = !stopped;
+  write_report_section(report_path, "status", section);
+  std::fflush(stdout);  // after the summary, whatever the buffering
+  std::fprintf(stderr, "pilelab run: status %s", status.level().c_str());
+  if (!status.items.empty()) std::fprintf(stderr, " (%zu finding%s):", status.items.size(), status.items.size() == 1 ? "" : "s");
+  std::fprintf(stderr, "\n");
+  for (const StatusItem& i : status.items)
+    std::fprintf(stderr, "  [%s]%s %s\n", i.stage.c_str(), i.fails ? " (fails)" : "", i.message.c_str());
+  if (status.level() == "fail")
+    throw FailedRun(stopped ? "the pile is unfit for the later stages (see the status above and report.json's \"status\")"
+                            : "see the status above and report.json's \"status\"");
+}
+
 void run_pipeline(const RunOptions& opt) {
   const auto invocation_start = std::chrono::steady_clock::now();
   // MPI, if a stage starts it, ends with the run (also when a stage throws).
@@ -363,8 +387,26 @@ void run_pipeline(const RunOptions& opt) {
                       });
                     }});
 
-  bool upstream_ran = false;
+  bool upstream_ran = false, piles_checked = false, stopped = false;
   for (const Stage& stage : stages) {
+    // A pile unfit for the later stages (never settled, grains lost) stops the run before them.
+    if (!piles_checked && stage.name != "dem" && stage.name != "members") {
+      piles_checked = true;
+      bool unfit = false;
+      if (root) {
+        RunStatus piles;
+        assess_piles(opt.out_dir, ensemble, piles);
+        unfit = piles.pile_fails() && !opt.allow_unsettled;
+      }
+      if (world) unfit = world->broadcast(unfit);
+      if (unfit) {
+        if (root)
+          std::fprintf(stderr, "pilelab run: the pile is unfit for the later stages (below); they do not run "
+                               "(--allow-unsettled runs them)\n");
+        stopped = true;
+        break;
+      }
+    }
     if (scene.table_text(stage.tables.front()).empty() && !scene.has(stage.tables.front())) continue;
     auto fingerprint_now = [&] {
       std::string fp;
@@ -404,8 +446,9 @@ void run_pipeline(const RunOptions& opt) {
     }
   }
 
-  if (root && opt.figures) draw_figures(opt);
+  if (root && opt.figures && !stopped) draw_figures(opt);
   if (root) print_summary(opt.out_dir, std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation_start).count());
+  if (root) report_status(opt, ensemble, stopped);
 }
 
 }  // namespace
@@ -428,6 +471,9 @@ void add_run_command(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--restart", opt->restart,
                 "The DEM continues from OUT/checkpoint.h5 where one is left (ensemble members always continue from theirs)");
+  cmd->add_flag("--allow-unsettled", opt->allow_unsettled,
+                "Run the later stages on a pile that never settled or lost more than 2 % of its grains (the status is "
+                "then warn, not fail)");
   cmd->add_flag("!--no-figures", opt->figures,
                 "No figures after the stages (scripts/figures.py): where a study makes its own, or matplotlib is missing");
   cmd->final_callback([opt] { run_pipeline(*opt); });

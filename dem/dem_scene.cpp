@@ -127,6 +127,7 @@ DemScene read_dem_scene(SceneReader& r) {
       r.get_double("dem.settle.kinetic_energy_per_grain_J", st.kinetic_energy_per_grain, Range::positive());
   st.min_time = r.get_double("dem.settle.min_time_s", st.min_time, Range::at_least(0.0));
   st.max_time = r.get_double("dem.settle.max_time_s", st.max_time, Range::positive());
+  st.must_settle = r.get_bool("dem.settle.must_settle", st.must_settle);
 
   RelaxSpec& rl = s.relax;
   rl.enabled = r.get_bool("dem.relax.enabled", rl.enabled);

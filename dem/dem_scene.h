@@ -47,6 +47,7 @@ struct SettleSpec {
   double kinetic_energy_per_grain = 1e-7;  ///< settled when mean kinetic energy per grain is below [J]
   double min_time = 0.2;                   ///< settle at least this long [s]
   double max_time = 5.0;                   ///< stop settling after this long even if not settled [s]
+  bool must_settle = true;                 ///< a pile that does not settle fails `pilelab run` (else: a warning)
 };
 
 struct RelaxSpec {

@@ -254,6 +254,7 @@ nlohmann::json dem_report(const PileProtocol& p, const RunCounters& c, int threa
   r["threads"] = threads;
   r["cores"] = std::thread::hardware_concurrency();
   r["snapshots"] = nlohmann::json::array();
+  r["must_settle"] = scene.settle.must_settle;
   r["settling"] = nlohmann::json::object();
   for (const Snapshot& s : p.snapshots()) {
     r["snapshots"].push_back(s.name);

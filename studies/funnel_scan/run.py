@@ -73,8 +73,10 @@ def run(args):
             f.write(text)
         os.replace(scene + ".tmp", scene)
         print(f"run.py: travel {travel:g} R (funnel {speed:.4f} m/s)", flush=True)
+        # --allow-unsettled: every pile is measured, an unfit one recorded in the report's status.
         subprocess.run([args.pilelab, "run", scene, "-o", directory, "-P", str(args.processes), "-j", "1",
-                        "--no-figures", "-q"], check=True, env=dict(os.environ, OMP_WAIT_POLICY="passive"))
+                        "--no-figures", "-q", "--allow-unsettled"], check=True,
+                       env=dict(os.environ, OMP_WAIT_POLICY="passive"))
         with open(os.path.join(directory, "report.json"), encoding="utf-8") as f:
             members = json.load(f)["ensemble"]["members"]
         for m in members:

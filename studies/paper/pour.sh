@@ -28,7 +28,8 @@ for e in "${ensembles[@]}"; do
   [[ -f $scene ]] || { echo "pour.sh: no scene $scene" >&2; exit 2; }
   /usr/bin/python3 scripts/study_members.py restore "$out/members" "$study"
   status=0
-  "$PILELAB" run "$scene" -o "$out" -P "$processes" -j 1 || status=$?
+  # --allow-unsettled: the study measures every pile; an unfit one is recorded in the status.
+  "$PILELAB" run "$scene" -o "$out" -P "$processes" -j 1 --allow-unsettled || status=$?
   /usr/bin/python3 scripts/study_members.py save "$out/members" "$study"
   ((status == 0)) || exit "$status"
 done

@@ -155,7 +155,8 @@ def main():
         with open(scene_path, "w", encoding="utf-8") as f:
             f.write(scene)
         print(f"stages.py: {len(seeds)} members ({', '.join(map(str, seeds))}), variant {name} -> {out}", flush=True)
-        subprocess.run([args.pilelab, "run", scene_path, "-o", out, "--no-figures"], check=True)
+        # --allow-unsettled: every pile is measured, an unfit one recorded in the report's status.
+        subprocess.run([args.pilelab, "run", scene_path, "-o", out, "--no-figures", "--allow-unsettled"], check=True)
         products = os.path.join(args.study, "products" + (f"_{variant}" if variant else ""))
         keep_products(out, products, names)
         # The scene the products were made from, beside them.

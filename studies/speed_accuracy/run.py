@@ -73,6 +73,10 @@ def run_setting(name, overrides, out, args, members_from=None):
         study_members.restore(os.path.join(directory, "members"), os.path.join(IN_PROGRESS, name))
     env = dict(os.environ, OMP_WAIT_POLICY="passive")
     command = [args.pilelab, "run", scene, "-o", directory, "-P", str(args.processes), "-j", "1", "--no-figures", "-q"]
+    # A study measures every pile it poured: a pile unfit for the later stages is recorded in the
+    # report's status rather than stopping the study (a binary from before the status has no flag).
+    if "--allow-unsettled" in subprocess.run([args.pilelab, "run", "--help"], capture_output=True, text=True).stdout:
+        command.append("--allow-unsettled")
     subprocess.run(command, check=True, env=env)
     return directory
 

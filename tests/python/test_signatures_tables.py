@@ -79,3 +79,44 @@ class DipStatistic(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+factorial = module("signatures_factorial", "studies/signatures/factorial.py")
+
+
+class FactorialEffects(unittest.TestCase):
+    """The second screen's effects on 16 cells whose responses are planted: main effects exact
+    where the within-cell noise is zero, and the standard error the textbook s sqrt(1/16 + 1/16)."""
+
+    def cells(self, planted, noise_sd, seeds=4, rng=None):
+        cells = []
+        for levels in factorial.design.design():
+            rows = []
+            for s in range(seeds):
+                y = 25.0 + sum(0.5 * planted.get(f, 0.0) * levels[f] for f in "ABCDEF")
+                y += rng.normal(0, noise_sd) if rng is not None else 0.0
+                rows.append({"repose_mean_deg": y})
+            cells.append({"levels": levels, "rows": rows})
+        return cells
+
+    def test_planted_main_effects_are_recovered_exactly(self):
+        planted = {"A": 1.0, "C": -3.0, "F": 0.5}
+        cells = self.cells(planted, 0.0)
+        for f in "ABCDEF":
+            y, cell, levels = factorial.column(cells, "repose_mean_deg")
+            v, _ = factorial.contrast(y, cell, np.array([lv[f] for lv in levels], dtype=float))
+            self.assertAlmostEqual(v, planted.get(f, 0.0), places=12, msg=f)
+
+    def test_the_error_is_the_pooled_within_cell_spread(self):
+        rng = np.random.default_rng(11)
+        cells = self.cells({"B": 2.0}, 1.0, seeds=4, rng=rng)
+        y, cell, levels = factorial.column(cells, "repose_mean_deg")
+        v, s = factorial.contrast(y, cell, np.array([lv["B"] for lv in levels], dtype=float))
+        resid = np.concatenate([y[cell == k] - y[cell == k].mean() for k in range(16)])
+        pooled = np.sqrt((resid ** 2).sum() / (64 - 16))
+        self.assertAlmostEqual(s, pooled * np.sqrt(2 / 32), places=12)
+        self.assertLess(abs(v - 2.0), 3 * s)  # the planted effect within its error
+        # A two-factor chain with nothing planted is within its error too (the design keeps
+        # main effects off the chains).
+        v, s = factorial.contrast(y, cell, np.array([lv["A"] * lv["B"] for lv in levels], dtype=float))
+        self.assertLess(abs(v), 3 * s)

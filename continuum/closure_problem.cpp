@@ -2,6 +2,10 @@
 
 #include "mesh/pile_mesh.h"  // mesh::BoundaryId
 
+#include <sstream>
+
+#include "continuum/model_context.h"
+
 #include <cmath>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -37,6 +41,27 @@ void read_closure_settings(ModelTable& t, ClosureSettings& s) {
                                                                                     : ClosureSettings::Surface::strong;
   s.surface_weight = r.get_double(t.key("surface_weight"), s.surface_weight, Range::positive());
   s.solver = read_solver(t, s.solver);
+}
+
+void report_closure(const ClosureSettings& s, const ClosureResult& r, const std::string& label, ModelContext& c,
+                    nlohmann::json& j) {
+  j["degree"] = s.degree;
+  j["surface"] = s.surface == ClosureSettings::Surface::strong ? "strong" : "weak";
+  j["outflow_surface_length_fraction"] = r.outflow_surface_length_fraction;
+  // With the free surface imposed strongly, least squares makes 1 - base force / weight equal
+  // to the square of this exactly (docs/CONTINUUM.md): any misfit shows as missing weight.
+  const double e = r.residual_norm * std::sqrt(c.pile.area_m2) / r.weight;
+  j["equilibrium_residual_over_weight"] = e;
+  const double carried = r.base_force_N / r.weight;
+  if (!(carried >= 0.99)) {  // NaN included
+    std::ostringstream w;
+    w << "the " << label << "'s base carries " << carried << " of the weight ("
+      << (s.surface == ClosureSettings::Surface::strong ? "1 - e^2, " : "") << "e = " << e << "); "
+      << 100 * r.outflow_surface_length_fraction
+      << " % of the free surface is steeper than a characteristic. A smoother outline (mesh.outline_smoothing_grains), a "
+         "finer mesh or degree 2 carries more";
+    warn(c, j, w.str());
+  }
 }
 
 ClosureProblem::ClosureProblem(std::string name, const Triangulation2& tria, const ClosureSettings& settings,

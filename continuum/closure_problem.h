@@ -28,6 +28,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/grid/grid_tools_cache.h>
@@ -87,6 +89,14 @@ struct ClosureResult : ModelResult {
   /// elements cannot represent (docs/CONTINUUM.md).
   double outflow_surface_length_fraction = 0;
 };
+
+struct ClosureResult;
+struct ModelContext;
+/// What every closure model adds to its report section: its degree and surface condition, the
+/// outflow fraction, the equilibrium residual, and a warning where its base carries less than
+/// 0.99 of the weight. `label` names the model in the warning ("FPA", "OSL").
+void report_closure(const ClosureSettings& s, const ClosureResult& r, const std::string& label, ModelContext& c,
+                    nlohmann::json& section);
 
 class ClosureProblem {
  public:

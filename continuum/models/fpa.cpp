@@ -5,7 +5,6 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 
 #include "common/error.h"
 #include "common/report.h"
@@ -92,28 +91,12 @@ nlohmann::json solve(const ModelSettings& settings, ModelContext& c) {
   FpaProblem problem(c.tria, f, c.settings.density_kg_per_m2, c.settings.gravity_m_per_s2, c.pile.apex_x_m);
   nlohmann::json j = solve_model(problem, "fpa", f.solver, c);
   const ClosureResult& r = problem.result();
-  j["degree"] = f.degree;
   j["left_repose_angle_deg"] = f.left_repose_angle_deg;
   j["right_repose_angle_deg"] = f.right_repose_angle_deg;
   j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
-  j["surface"] = f.surface == ClosureSettings::Surface::strong ? "strong" : "weak";
   // Where p_xy has the side's sign the FPA's fixed direction is the minor principal axis.
-  j["minor_axis_fixed_area_fraction"] = r.reversed_shear_area_fraction;
-  j["outflow_surface_length_fraction"] = r.outflow_surface_length_fraction;
-  // With the free surface imposed strongly, least squares makes 1 - base force / weight equal
-  // to the square of this exactly (docs/CONTINUUM.md): any misfit shows as missing weight.
-  const double e = r.residual_norm * std::sqrt(c.pile.area_m2) / r.weight;
-  j["equilibrium_residual_over_weight"] = e;
-  const double carried = r.base_force_N / r.weight;
-  if (!(carried >= 0.99)) {  // NaN included
-    std::ostringstream w;
-    w << "the FPA's base carries " << carried << " of the weight ("
-      << (f.surface == ClosureSettings::Surface::strong ? "1 - e^2, " : "") << "e = " << e << "); "
-      << 100 * r.outflow_surface_length_fraction
-      << " % of the free surface is steeper than a characteristic. A smoother outline (mesh.outline_smoothing_grains), a "
-         "finer mesh or degree 2 carries more";
-    warn(c, j, w.str());
-  }
+  j["minor_axis_fixed_area_fraction"] = problem.result().reversed_shear_area_fraction;
+  report_closure(f, problem.result(), "FPA", c, j);
   return j;
 }
 

@@ -3,7 +3,6 @@
 #include "continuum/models/osl.h"
 
 #include <cmath>
-#include <sstream>
 
 #include "common/error.h"
 #include "continuum/model_context.h"
@@ -34,24 +33,12 @@ nlohmann::json solve(const ModelSettings& settings, ModelContext& c) {
   const auto& s = dynamic_cast<const OslSettings&>(settings);
   OslProblem problem(c.tria, s, c.settings.density_kg_per_m2, c.settings.gravity_m_per_s2, c.pile.apex_x_m);
   nlohmann::json j = solve_model(problem, "osl", s.solver, c);
-  const ClosureResult& r = problem.result();
-  j["degree"] = s.degree;
   j["eta"] = s.eta;
   j["mu"] = s.mu;
-  j["surface"] = s.surface == ClosureSettings::Surface::strong ? "strong" : "weak";
-  j["reversed_shear_area_fraction"] = r.reversed_shear_area_fraction;
-  j["outflow_surface_length_fraction"] = r.outflow_surface_length_fraction;
-  const double e = r.residual_norm * std::sqrt(c.pile.area_m2) / r.weight;
-  j["equilibrium_residual_over_weight"] = e;
-  const double carried = r.base_force_N / r.weight;
-  if (!(carried >= 0.99)) {  // NaN included
-    std::ostringstream w;
-    w << "the OSL's base carries " << carried << " of the weight (e = " << e << "); "
-      << 100 * r.outflow_surface_length_fraction
-      << " % of the free surface is steeper than a characteristic, or a flank is one (1 + mu tan(phi) - eta tan^2(phi) "
-         "near 0)";
-    warn(c, j, w.str());
-  }
+  j["reversed_shear_area_fraction"] = problem.result().reversed_shear_area_fraction;
+  // A flank that is a characteristic (1 + mu tan(phi) - eta tan^2(phi) = 0) also shows as
+  // missing weight.
+  report_closure(s, problem.result(), "OSL", c, j);
   return j;
 }
 

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "common/output_lock.h"
 #include "coarse/coarse_run.h"
 
 namespace pilelab::app {
@@ -15,7 +16,10 @@ void add_coarse_command(CLI::App& app) {
                 "others; writes OUT/fields.h5, OUT/fields.vtu, OUT/profiles.csv, OUT/rve_study.csv, report.json.");
   cmd->add_option("scene", opt->scene_path, "Scene file (TOML); see docs/SCENES.md")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", opt->out_dir, "Output directory (created if missing)")->required();
-  cmd->final_callback([opt] { coarse::run_coarse(*opt); });
+  cmd->final_callback([opt] {
+    const OutputLock lock(opt->out_dir, "pilelab coarse " + opt->scene_path);
+    coarse::run_coarse(*opt);
+  });
 }
 
 }  // namespace pilelab::app

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "common/output_lock.h"
 #include "compare/compare_run.h"
 
 namespace pilelab::app {
@@ -15,7 +16,10 @@ void add_compare_command(CLI::App& app) {
                  "OUT/compare.vtu and the \"compare\" and \"fit\" sections of OUT/report.json.");
   cmd->add_option("scene", opt->scene_path, "Scene file (TOML); see docs/SCENES.md")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", opt->out_dir, "Output directory holding the earlier stages' files")->required();
-  cmd->final_callback([opt] { compare::run_compare(*opt); });
+  cmd->final_callback([opt] {
+    const OutputLock lock(opt->out_dir, "pilelab compare " + opt->scene_path);
+    compare::run_compare(*opt);
+  });
 }
 
 void add_fit_command(CLI::App& app) {
@@ -29,7 +33,10 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--resamples", opt->resamples, "Bootstrap resamples (default 200)")->check(CLI::Range(0, 100000));
   cmd->add_option("--folds", opt->folds, "Cross-validation folds (default 5)")->check(CLI::Range(2, 100));
   cmd->add_option("--spacing", opt->sample_spacing_m, "Sample spacing in m (default: the RVE radius)")->check(CLI::Range(0.0, 1e6));
-  cmd->final_callback([opt] { compare::run_fit(*opt); });
+  cmd->final_callback([opt] {
+    const OutputLock lock(opt->out_dir, "pilelab fit " + opt->fields_path);
+    compare::run_fit(*opt);
+  });
 }
 
 }  // namespace pilelab::app

@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "apps/commands.h"
+#include "common/output_lock.h"
 #include "dem/pile_run.h"
 
 namespace pilelab::app {
@@ -23,7 +24,10 @@ void add_dem_command(CLI::App& app) {
                   "Write a checkpoint and stop after this many steps (for testing --restart)")
       ->check(CLI::Range(std::int64_t(1), INT64_MAX))
       ->group("");  // for tests: not in the user's help
-  dem->final_callback([opt] { dem::run_dem(*opt); });
+  dem->final_callback([opt] {
+    const OutputLock lock(opt->out_dir, "pilelab dem " + opt->scene_path);
+    dem::run_dem(*opt);
+  });
 }
 
 }  // namespace pilelab::app

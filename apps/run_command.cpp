@@ -20,6 +20,7 @@
 #include "apps/child_process.h"
 #include "apps/commands.h"
 #include "apps/run_status.h"
+#include "common/output_lock.h"
 #include "apps/ensemble_members.h"
 #include "apps/parallel.h"
 #include "apps/scene_check.h"
@@ -264,6 +265,10 @@ void run_pipeline(const RunOptions& opt) {
                      "or run one task (docs/ENSEMBLES.md)");
   if (!ensemble.empty() && !scene.has("dem"))
     throw InputError(opt.scene_path + ": [ensemble] needs a [dem] table: the members are poured from it");
+  // One writer per output folder: rank 0 holds OUT's lock for the whole run (the ranks are one
+  // writer; members poured as child processes lock their own folders).
+  std::optional<OutputLock> lock;
+  if (root) lock.emplace(opt.out_dir, "pilelab run " + opt.scene_path);
   on_root(world, [&] { prepare_output_directory(opt.out_dir); });
   const auto out = [&](const std::string& f) { return (std::filesystem::path(opt.out_dir) / f).string(); };
   const std::string state_path = out("stages.json");

@@ -3,7 +3,11 @@
 // starts MPI; `mpirun -np N pilelab solve ...` runs it in parallel.
 #include <memory>
 
+#include <optional>
+
 #include "apps/commands.h"
+#include "apps/parallel.h"
+#include "common/output_lock.h"
 #include "continuum/solve.h"
 
 namespace pilelab::app {
@@ -19,7 +23,13 @@ void add_solve_command(CLI::App& app) {
   solve->add_option("scene", opt->scene_path, "Scene file (TOML); see docs/SCENES.md")->required()->check(CLI::ExistingFile);
   solve->add_option("-o,--out", opt->out_dir, "Output directory (created if missing)")->required();
   solve->add_flag("-q,--quiet", opt->quiet, "No progress lines");
-  solve->final_callback([opt] { continuum::run_solve_command(*opt); });
+  solve->final_callback([opt] {
+    // Under mpirun every rank runs this: the ranks are one writer, so none takes the lock
+    // (each would be refused by the first); a single process takes it.
+    std::optional<OutputLock> lock;
+    if (!launched_by_mpi()) lock.emplace(opt->out_dir, "pilelab solve " + opt->scene_path);
+    continuum::run_solve_command(*opt);
+  });
 }
 
 }  // namespace pilelab::app

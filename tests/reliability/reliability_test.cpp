@@ -2,6 +2,8 @@
 // a crash: a full disk (a file-size limit, and a real small tmpfs where mounting is allowed), a
 // read-only file system, a time step far above the stability limit forced through, and an
 // empty scene.
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -187,3 +189,33 @@ TEST_F(Reliability, SolveFindsAReadOnlyFolderBeforeItComputes) {
   EXPECT_EQ(r.output.find("elastic:"), std::string::npos) << "nothing may be solved first:\n" << r.output;
 }
 #endif
+
+// Two writers into one folder: the second is refused at once, naming the first, and the first
+// finishes its pile untouched (before, both exited 0 with dem.h5 from one and frames from the
+// other).
+TEST_F(Reliability, ASecondWriterIntoTheSameFolderIsRefused) {
+  std::string text = tiny_scene();
+  const std::string count = "grain_count = 40";
+  ASSERT_NE(text.find(count), std::string::npos);
+  text.replace(text.find(count), count.size(), "grain_count = 400");  // a pour of some seconds
+  const std::string scene = write_scene("longer.toml", text), out = path("shared");
+  const std::string first = "bash -c '" + std::string(PILELAB_BINARY) + " dem " + scene + " -o " + out +
+                            " -q -j 1 > " + path("first.log") + " 2>&1; echo $? > " + path("first.code") + "' &";
+  ASSERT_EQ(std::system(first.c_str()), 0);
+  // Wait until the first holds the lock (its note is in the lock file).
+  const std::string lock = out + "/.pilelab.lock";
+  for (int i = 0; i < 200 && !(std::filesystem::exists(lock) && std::filesystem::file_size(lock) > 0); ++i)
+    ::usleep(50000);
+  ASSERT_GT(std::filesystem::file_size(lock), 0u) << "the first writer never took the lock";
+  const auto second = run("dem " + scene + " -o " + out + " -q -j 1");
+  EXPECT_EQ(second.exit_code, 2) << second.output;
+  EXPECT_NE(second.output.find("another pilelab process"), std::string::npos) << second.output;
+  EXPECT_NE(second.output.find("longer.toml"), std::string::npos) << "the holder's command is named:\n" << second.output;
+  for (int i = 0; i < 1200 && !std::filesystem::exists(path("first.code")); ++i) ::usleep(100000);
+  std::ifstream code_in(path("first.code"));
+  int code = -1;
+  code_in >> code;
+  std::ifstream log(path("first.log"));
+  EXPECT_EQ(code, 0) << std::string(std::istreambuf_iterator<char>(log), {});
+  EXPECT_TRUE(std::filesystem::exists(out + "/dem.h5"));
+}

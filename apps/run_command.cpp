@@ -84,7 +84,8 @@ struct Stage {
 // What the solve takes from the stages before it where the scene leaves it open: the bulk
 // density and gravity of coarse's fields (OUT/fields.h5), the repose angles of the pile (or the
 // members' means).
-continuum::MeasuredPile measured_for_solve(const std::string& fields_h5, const std::optional<mesh::Wedge>& pile) {
+continuum::MeasuredPile measured_for_solve(const std::string& fields_h5, const std::optional<mesh::Wedge>& pile,
+                                           bool poured) {
   continuum::MeasuredPile m;
   if (std::filesystem::exists(fields_h5)) {
     const FieldsAttributes fields = read_fields_attributes(fields_h5);
@@ -94,6 +95,8 @@ continuum::MeasuredPile measured_for_solve(const std::string& fields_h5, const s
   if (pile) {
     m.left_repose_angle_deg = pile->left_angle_deg;
     m.right_repose_angle_deg = pile->right_angle_deg;
+  } else if (poured) {
+    m.repose_unmeasured = true;  // a pile, but a flank without an angle
   }
   return m;
 }
@@ -368,7 +371,9 @@ void run_pipeline(const RunOptions& opt) {
                       o.scene_path = opt.scene_path;
                       o.out_dir = opt.out_dir;
                       o.quiet = opt.quiet;
-                      o.measured = measured_for_solve(out("fields.h5"), pile_measured());
+                      // The run pours its pile (one, or an ensemble's members) or takes one poured elsewhere.
+                      const bool poured = !ensemble.empty() || scene.has("dem");
+                      o.measured = measured_for_solve(out("fields.h5"), pile_measured(), poured);
                       continuum::run_solve(o);
                     }});
 #endif

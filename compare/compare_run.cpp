@@ -846,8 +846,9 @@ void Comparison::fpa_angle() {
   if (!dem_.has("stress_orientation_deg")) return;
   nlohmann::json fpa =
       with_jackknife_errors([&](const PointFields& d) { return fpa_angle_fit(mesh_, d, apex_x_); }, dem_, jackknife_);
-  fpa["repose_angle_deg"] = repose_deg_;
-  fpa["psi_fpa_deg"] = repose_deg_ > 0 ? 45.0 - 0.5 * repose_deg_ : 0.0;
+  // Without an angle (none in the scene, none measured) there is no FPA angle to set beside the fit.
+  fpa["repose_angle_deg"] = repose_deg_ > 0 ? nlohmann::json(repose_deg_) : nlohmann::json();
+  fpa["psi_fpa_deg"] = repose_deg_ > 0 ? nlohmann::json(45.0 - 0.5 * repose_deg_) : nlohmann::json();
   section_["fpa_angle"] = fpa;
 }
 

@@ -16,6 +16,9 @@ namespace pilelab::continuum {
 struct MeasuredPile {
   std::optional<double> density_kg_per_m2, gravity_m_per_s2;
   std::optional<double> left_repose_angle_deg, right_repose_angle_deg;
+  /// The DEM poured the pile but could not measure a flank's angle (too few surface bins): a
+  /// model that wanted the measured angles says so instead of taking its default silently.
+  bool repose_unmeasured = false;
 };
 
 struct SolveOptions {

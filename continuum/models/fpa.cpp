@@ -81,6 +81,8 @@ FpaSettings with_angles(FpaSettings f, const ModelContext& c) {
     f.angles_from_dem = true;  // reported as repose_angle_source = "dem"
   } else if (f.angles_from_dem) {
     apply_dem_repose_angles(f, (std::filesystem::path(c.out_dir) / "report.json").string());
+  } else if (!f.angles_in_scene && m.repose_unmeasured) {
+    f.angles_defaulted = true;  // reported as repose_angle_source = "default", with a warning
   }
   return f;
 }
@@ -93,7 +95,11 @@ nlohmann::json solve(const ModelSettings& settings, ModelContext& c) {
   const ClosureResult& r = problem.result();
   j["left_repose_angle_deg"] = f.left_repose_angle_deg;
   j["right_repose_angle_deg"] = f.right_repose_angle_deg;
-  j["repose_angle_source"] = f.angles_from_dem ? "dem" : "scene";
+  j["repose_angle_source"] = f.angles_from_dem ? "dem" : f.angles_defaulted ? "default" : "scene";
+  if (f.angles_defaulted)
+    warn(c, j, "the DEM pile has a flank whose angle of repose could not be measured (too few surface bins), so the "
+               "FPA takes the default " + std::to_string(f.left_repose_angle_deg) + " / " +
+               std::to_string(f.right_repose_angle_deg) + " degrees; set continuum.fpa.repose_angle_deg to choose");
   // Where p_xy has the side's sign the FPA's fixed direction is the minor principal axis.
   j["minor_axis_fixed_area_fraction"] = problem.result().reversed_shear_area_fraction;
   report_closure(f, problem.result(), "FPA", c, j);

@@ -18,6 +18,7 @@ struct FpaSettings : ClosureSettings {
   /// (apply_dem_repose_angles) or handed over by `pilelab run`, not from the scene.
   bool angles_from_dem = false;
   bool angles_in_scene = false;  ///< the scene sets an angle key
+  bool angles_defaulted = false;  ///< the DEM measured no angle on a flank: the defaults stand in
 };
 
 /// The FPA's closure for the two repose angles.

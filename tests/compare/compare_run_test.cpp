@@ -287,7 +287,9 @@ TEST(CompareRun, ReportWithoutReposeAnglesGivesNoFpaAngle) {
                            "repose_angle_right_deg": null})", R"(5)"}) {
     std::ofstream(dir + "/report.json") << "{\"dem\": " << dem << "}\n";
     const auto c = run_compare_in(dir);
-    EXPECT_EQ(c["fpa_angle"]["repose_angle_deg"].get<double>(), 0.0) << dem;
+    // No angle: no FPA angle to set beside the fit (null, not a misleading 0).
+    EXPECT_TRUE(c["fpa_angle"]["repose_angle_deg"].is_null()) << dem;
+    EXPECT_TRUE(c["fpa_angle"]["psi_fpa_deg"].is_null()) << dem;
   }
   // Both present: their mean, and psi = 45 - phi/2.
   std::ofstream(dir + "/report.json") << R"({"dem": {"repose_angle_left_deg": 30.0, "repose_angle_right_deg": 34.0}})";

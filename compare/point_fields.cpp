@@ -20,6 +20,24 @@ void PointFields::set(const std::string& name, std::vector<double> v, std::vecto
   valid[name] = std::move(ok);
 }
 
+namespace {
+
+// The files' layout is version 1 (docs/FORMAT.md); a later version is another layout that this
+// build cannot read, and is refused rather than misread.
+void check_format_version(const H5File& f, const std::string& path, const char* kind) {
+  std::int64_t version = 0;
+  try {
+    version = f.attribute_int("/", "format_version");
+  } catch (const InputError&) {
+    throw InputError(path + ": root attribute format_version missing: expected 1 (a pilelab " + kind + " file)");
+  }
+  if (version != 1)
+    throw InputError(path + ": root attribute format_version = " + std::to_string(version) +
+                     ": this build reads version 1 of the " + kind + " file (docs/FORMAT.md)");
+}
+
+}  // namespace
+
 PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* on_nodes) {
   H5File f = H5File::open_read(path);
   std::string format;
@@ -29,6 +47,7 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   }
   if (format != "pilelab-fields")
     throw InputError(path + ": not a pilelab fields file (root attribute format = \"pilelab-fields\" expected)");
+  check_format_version(f, path, "fields");
   PointFields out;
   out.source = path;
   std::vector<std::uint64_t> dims;
@@ -43,15 +62,28 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
   };
   for (const std::string& name : names) {
     if (name == "points" || name == "piles_with_data") continue;
-    // Q_count and Q_stderr belong to Q; grain_count is a field of its own.
-    if (ends_with(name, "_count") && is_field(name.substr(0, name.size() - 6))) continue;
-    if (ends_with(name, "_stderr") && is_field(name.substr(0, name.size() - 7))) continue;
+    // A field Q comes with Q_count (and Q_stderr for an ensemble); grain_count is a field of its
+    // own (it has grain_count_count). A count or error whose field is missing is a damaged file.
+    if (!is_field(name + "_count")) {
+      const bool belongs = (ends_with(name, "_count") && is_field(name.substr(0, name.size() - 6))) ||
+                           (ends_with(name, "_stderr") && is_field(name.substr(0, name.size() - 7)));
+      if (belongs) continue;
+      throw InputError(path + ": /fields/" + name + ": expected a field with its count /fields/" + name +
+                       "_count, or the count or standard error of a field; the field it belongs to is missing");
+    }
     auto values = f.read_doubles("/fields/" + name);
     const auto count = f.read_ints("/fields/" + name + "_count");
     if (values.size() != out.points.size() || count.size() != out.points.size())
       throw InputError(path + ": /fields/" + name + " does not have one value per point");
     std::vector<char> ok(count.size());
-    for (std::size_t i = 0; i < count.size(); ++i) ok[i] = count[i] > 0 && std::isfinite(values[i]);
+    for (std::size_t i = 0; i < count.size(); ++i) {
+      // A value counted from grains must be a number; where nothing was counted it is unused.
+      if (count[i] > 0 && !std::isfinite(values[i]))
+        throw InputError(path + ": /fields/" + name + " row " + std::to_string(i) + " is " + std::to_string(values[i]) +
+                         " where " + std::to_string(count[i]) + " grains were counted (/fields/" + name +
+                         "_count); expected a finite number");
+      ok[i] = count[i] > 0;
+    }
     out.set(name, std::move(values), std::move(ok));
   }
   const std::string location = f.attribute_string("/fields", "location");
@@ -77,6 +109,12 @@ PointFields read_dem_fields(const std::string& path, Triangulation* mesh, bool* 
                            std::to_string(tri[3 * t + k]) + "; expected 0 .. " + std::to_string(n - 1) +
                            " (/mesh/nodes has " + std::to_string(n) + " rows)");
       mesh->triangles.push_back({static_cast<int>(tri[3 * t]), static_cast<int>(tri[3 * t + 1]), static_cast<int>(tri[3 * t + 2])});
+      // Integrals weigh by area: a triangle of no area is a damaged mesh, not a zero weight.
+      const auto& c = mesh->triangles.back();
+      const Vec2 e1 = mesh->nodes[c[1]] - mesh->nodes[c[0]], e2 = mesh->nodes[c[2]] - mesh->nodes[c[0]];
+      if (!(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) > 0))
+        throw InputError(path + ": /mesh/triangles row " + std::to_string(t) + " (nodes " + std::to_string(c[0]) + ", " +
+                         std::to_string(c[1]) + ", " + std::to_string(c[2]) + ") has no area: expected a triangle");
     }
     const std::size_t expected = location == "nodes" ? mesh->nodes.size() : mesh->triangles.size();
     if (out.points.size() != expected)
@@ -98,6 +136,7 @@ std::vector<std::string> model_names(const std::string& path) {
 
 PointFields read_model_fields(const std::string& path, const std::string& model) {
   H5File f = H5File::open_read(path);
+  check_format_version(f, path, "models");
   const std::string g = "/" + model;
   if (!f.exists(g)) throw InputError(path + ": no model '" + model + "' (group " + g + ")");
   PointFields out;

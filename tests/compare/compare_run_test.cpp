@@ -62,6 +62,7 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
                   bool with_change = true) {
   H5File h = H5File::create(path);
   h.set_attribute("/", "format", std::string("pilelab-fields"));
+  h.set_attribute("/", "format_version", std::int64_t(1));
   h.set_attribute("/", "rve_radius_m", 0.1);
   h.set_attribute("/", "height_m", 1.0);
   h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
@@ -84,10 +85,12 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
 }
 
 // fields.h5 with one part damaged, as a truncated copy or a hand edit would leave it.
-enum class Damage { nodes_shape, triangle_index, negative_index, points_count };
+enum class Damage { nodes_shape, triangle_index, negative_index, points_count, degenerate_triangle, counted_nan,
+                    orphan_count, later_version };
 void write_damaged_fields(const std::string& path, const Synthetic& s, Damage damage) {
   H5File h = H5File::create(path);
   h.set_attribute("/", "format", std::string("pilelab-fields"));
+  h.set_attribute("/", "format_version", std::int64_t(damage == Damage::later_version ? 9 : 1));
   const std::uint64_t k = s.xy.size() / 2;
   if (damage == Damage::nodes_shape) {
     std::vector<double> xyz(3 * k, 0.0);
@@ -98,12 +101,15 @@ void write_damaged_fields(const std::string& path, const Synthetic& s, Damage da
   auto tri = s.triangles;
   if (damage == Damage::triangle_index) tri[7] = static_cast<std::int64_t>(k);
   if (damage == Damage::negative_index) tri[7] = -1;
+  if (damage == Damage::degenerate_triangle) tri[5] = tri[4];  // a triangle with a repeated node
   h.write("/mesh/triangles", tri, {tri.size() / 3, 3});
   const std::uint64_t points = damage == Damage::points_count ? k - 1 : k;
   const std::vector<double> xy(s.xy.begin(), s.xy.begin() + 2 * points);
   h.write("/fields/points", xy, {points, 2}, "m");
   h.set_attribute("/fields", "location", std::string("nodes"));
-  h.write("/fields/stress_yy", std::vector<double>(points, 1.0));
+  std::vector<double> stress(points, 1.0);
+  if (damage == Damage::counted_nan) stress[3] = NAN;
+  if (damage != Damage::orphan_count) h.write("/fields/stress_yy", stress);
   h.write("/fields/stress_yy_count", std::vector<std::int64_t>(points, 1));
 }
 
@@ -162,6 +168,7 @@ TEST(CompareRun, EnsembleFitsAreBootstrappedOverPiles) {
 void write_models(const std::string& path, const Synthetic& s, double rho_g_factor, double change_factor,
                   bool with_change = true, bool with_height = true) {
   H5File m = H5File::create(path);
+  m.set_attribute("/", "format_version", std::int64_t(1));
   m.set_attribute("/", "rho_g_h_N_per_m", 1000.0 * rho_g_factor);  // the DEM's rho g is 1000 N/m^2, h = 1 m
   if (with_height) m.set_attribute("/", "height_m", 1.0);
   m.write("/same/points", s.xy, {s.xy.size() / 2, 2}, "m");
@@ -307,7 +314,11 @@ TEST(CompareRun, DamagedMeshInFieldsFileIsNamed) {
   const std::pair<Damage, const char*> cases[] = {{Damage::nodes_shape, "/mesh/nodes"},
                                                   {Damage::triangle_index, "/mesh/triangles"},
                                                   {Damage::negative_index, "/mesh/triangles"},
-                                                  {Damage::points_count, "/fields/points"}};
+                                                  {Damage::points_count, "/fields/points"},
+                                                  {Damage::degenerate_triangle, "/mesh/triangles row 1"},
+                                                  {Damage::counted_nan, "/fields/stress_yy row 3"},
+                                                  {Damage::orphan_count, "/fields/stress_yy_count:"},
+                                                  {Damage::later_version, "format_version = 9"}};
   for (const auto& [damage, dataset] : cases) {
     const std::string path = dir + "/damaged.h5";
     std::filesystem::remove(path);

@@ -30,12 +30,40 @@ LABEL = {"sigma_yy": r"$\sigma_{yy}/\rho g h$", "sigma_xx": r"$\sigma_{xx}/\rho 
          "strain_orientation_deg": "major strain axis [deg]", "fabric_orientation_deg": "major fabric axis [deg]"}
 
 
+def cannot_write(path, error):
+    """A full disk or a read-only folder: the file and the system's reason, exit code 2 (bad
+    environment, as the C++ stages report it), no traceback."""
+    print(f"figures.py: {path}: cannot write: {error.strerror or error}", file=sys.stderr)
+    sys.exit(2)
+
+
+def prepare_figures_dir(out):
+    """OUT/figures made and probed before any figure is drawn, as the stages probe their folders."""
+    directory = os.path.join(out, "figures")
+    probe = os.path.join(directory, f".probe.tmp.{os.getpid()}")
+    try:
+        os.makedirs(directory, exist_ok=True)
+        with open(probe, "wb") as f:
+            f.write(b"\0" * 4096)
+            f.flush()
+            os.fsync(f.fileno())
+        os.remove(probe)
+    except OSError as e:
+        if os.path.exists(probe):
+            os.remove(probe)
+        cannot_write(directory, e)
+
+
 def save(fig, out, name):
-    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
     path = os.path.join(out, "figures", name)
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=130, bbox_inches="tight")
-    os.replace(tmp, path)  # never a half-written figure
+    tmp = path + f".tmp.{os.getpid()}.png"  # a process's own: two runs never share one
+    try:
+        fig.savefig(tmp, dpi=130, bbox_inches="tight")
+        os.replace(tmp, path)  # never a half-written figure
+    except OSError as e:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        cannot_write(path, e)
     plt.close(fig)
     print("wrote", path)
 
@@ -252,6 +280,7 @@ def main():
     if len(sys.argv) != 2:
         sys.exit("usage: /usr/bin/python3 scripts/figures.py OUT")
     out = sys.argv[1]
+    prepare_figures_dir(out)
     report_path = os.path.join(out, "report.json")
     report = json.load(open(report_path)) if os.path.exists(report_path) else {}
     pile_figures(out, report)

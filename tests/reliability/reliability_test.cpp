@@ -219,3 +219,21 @@ TEST_F(Reliability, ASecondWriterIntoTheSameFolderIsRefused) {
   EXPECT_EQ(code, 0) << std::string(std::istreambuf_iterator<char>(log), {});
   EXPECT_TRUE(std::filesystem::exists(out + "/dem.h5"));
 }
+
+// The figures on a full disk: the folder and the system's reason, exit code 2, no traceback and
+// no temporary file left (before: a Python traceback and exit 1).
+TEST_F(Reliability, FiguresOnAFullDiskAreAClearError) {
+  const std::string scene = std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny_pipeline.toml";
+  const std::string out = path("run");
+  ASSERT_EQ(run("run " + scene + " -o " + out + " -q --no-figures").exit_code, 0);
+  const MountedTmpfs disk(path("disk"), "size=8k");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+  std::filesystem::create_symlink(path("disk"), out + "/figures");
+  const auto r = run("env MATPLOTLIBRC=/usr/share/matplotlib/mpl-data/matplotlibrc /usr/bin/python3 " +
+                         std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py " + out,
+                     "", /*prefix_binary=*/false);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Traceback"), std::string::npos) << r.output;
+  expect_no_temporary_files(path("disk"));
+}

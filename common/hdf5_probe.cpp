@@ -1,6 +1,7 @@
 #include "common/hdf5_probe.h"
 
 #include <hdf5.h>
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
@@ -14,6 +15,7 @@
 #include <cstring>
 #include <mutex>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "common/error.h"
@@ -42,16 +44,21 @@ herr_t read_attribute(hid_t object, const char* name, const H5A_info_t*, void*) 
   return status;
 }
 
-// Every object: its attributes, and a dataset's data in its own type.
-herr_t read_object(hid_t file, const char* name, const H5O_info_t* info, void*) {
+// Every object: its attributes, and a dataset's data in its own type. On failure, `failed`
+// (a std::string) names the object and the part that did not read.
+herr_t read_object(hid_t file, const char* name, const H5O_info_t* info, void* failed) {
+  std::string& failure = *static_cast<std::string*>(failed);
+  failure = std::string("/") + name + ": cannot open it";
   const hid_t object = H5Oopen(file, name, H5P_DEFAULT);
   if (object < 0) return -1;
+  failure = std::string("/") + name + ": its attributes do not read";
   herr_t status = H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, read_attribute, nullptr);
   if (status >= 0 && info->type == H5O_TYPE_DATASET) {
     const hid_t type = H5Dget_type(object), space = H5Dget_space(object);
     const hssize_t n = H5Sget_simple_extent_npoints(space);
     const size_t size = H5Tget_size(type);
     status = -1;
+    failure = std::string("/") + name + ": its data do not read (they fail their checksum, or the file is damaged)";
     if (n >= 0 && size > 0 && static_cast<double>(n) * size < 4e9) {
       std::vector<unsigned char> buffer(static_cast<size_t>(n) * size + 1);
       status = n == 0 ? 0 : H5Dread(object, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data());
@@ -65,12 +72,18 @@ herr_t read_object(hid_t file, const char* name, const H5O_info_t* info, void*) 
   return status;
 }
 
-// The child's work: 0 if every part of the file reads, 1 if HDF5 refuses a part.
-int read_everything(const char* path) {
+// The child's work: 0 if every part of the file reads, 1 if HDF5 refuses a part, whose name
+// and failure go to report_fd for the parent's message.
+int read_everything(const char* path, int report_fd) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) return 1;
-  const herr_t status = H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, read_object, nullptr, H5O_INFO_BASIC);
+  std::string failure;
+  const herr_t status = H5Ovisit2(file, H5_INDEX_NAME, H5_ITER_NATIVE, read_object, &failure, H5O_INFO_BASIC);
+  if (status < 0 && report_fd >= 0) {
+    failure.resize(std::min<std::size_t>(failure.size(), 1000));
+    (void)!::write(report_fd, failure.data(), failure.size());
+  }
   return status < 0 ? 1 : 0;  // the file is not closed: the child ends without HDF5's clean-up
 }
 
@@ -91,8 +104,17 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
     if (readable.count(version)) return;
   }
   if (const char* limit = std::getenv("PILELAB_HDF5_PROBE_LIMIT_S")) limit_s = static_cast<unsigned>(std::max(1, std::atoi(limit)));
+  int report[2] = {-1, -1};  // the child names the part that did not read
+  if (::pipe2(report, O_CLOEXEC) != 0) report[0] = report[1] = -1;
+  const auto close_report = [&] {
+    for (int& fd : report)
+      if (fd >= 0) ::close(fd), fd = -1;
+  };
   const pid_t child = fork();
-  if (child < 0) return;  // no process to spare: read the file as it is
+  if (child < 0) {
+    close_report();
+    return;  // no process to spare: read the file as it is
+  }
   if (child == 0) {
     // The child dies with its parent, and a hang ends with SIGALRM whatever handler the parent
     // had installed (libFuzzer has one: found when a fuzzed file hung HDF5 past every limit).
@@ -104,8 +126,9 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
     sigaddset(&alarm_only, SIGALRM);
     sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
     alarm(limit_s);
-    _exit(read_everything(path.c_str()));
+    _exit(read_everything(path.c_str(), report[1]));
   }
+  if (report[1] >= 0) ::close(report[1]), report[1] = -1;
   // The parent keeps the limit too: a child still running a second after it is killed.
   int status = 0;
   bool killed = false;
@@ -123,6 +146,10 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
     }
     usleep(waited < 0.1 ? 500 : 10000);  // most files are read in milliseconds
   }
+  std::string failure(1000, '\0');
+  const ssize_t reported = report[0] >= 0 ? ::read(report[0], failure.data(), failure.size()) : 0;
+  failure.resize(reported > 0 ? static_cast<std::size_t>(reported) : 0);
+  close_report();
   if (killed && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
     throw InputError(path + ": HDF5 did not finish reading this file within " + std::to_string(limit_s) +
                      " s (a damaged file can make it loop)");
@@ -132,7 +159,8 @@ void probe_hdf5_file(const std::string& path, unsigned limit_s) {
     return;
   }
   if (WIFEXITED(status))
-    throw InputError(path + ": HDF5 cannot read every part of this file (damaged or truncated?)");
+    throw InputError(path + ": " + (failure.empty() ? std::string("HDF5 cannot read every part of this file (damaged or truncated?)")
+                                                    : failure + " (a damaged file)"));
   const int signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   if (signal == SIGALRM)
     throw InputError(path + ": HDF5 did not finish reading this file within " + std::to_string(limit_s) +

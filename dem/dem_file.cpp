@@ -140,6 +140,15 @@ void write_snapshot(H5File& f, const Snapshot& s, const WallPlacement& walls) {
   throw InputError(path + ": " + object + ": " + what);
 }
 
+// A number stored as an attribute (a snapshot's time and gravity, the run's figures) is as
+// physical as a dataset's: a NaN or infinity is refused here, not carried into fields.h5.
+double finite_attribute(const H5File& f, const std::string& object, const std::string& name) {
+  const double value = f.attribute_double(object, name);
+  if (!std::isfinite(value))
+    fail(f.path(), object, "attribute " + name + " is " + (std::isnan(value) ? "NaN" : "infinite") + "; expected a finite number");
+  return value;
+}
+
 void expect_dims(const H5File& f, const std::string& name, const Dims& got, const Dims& want) {
   if (got != want) fail(f.path(), name, "shape " + dims_text(got) + ", expected " + dims_text(want));
 }
@@ -352,17 +361,23 @@ Snapshot DemFile::snapshot(const std::string& name) const {
   const H5File f = H5File::open_read(path);
   Snapshot s;
   s.name = name;
-  s.time = f.attribute_double(g, "time_s");
-  s.gravity = f.attribute_double(g, "gravity_m_per_s2");
+  s.time = finite_attribute(f, g, "time_s");
+  s.gravity = finite_attribute(f, g, "gravity_m_per_s2");
 
   std::uint64_t n = 0, c = 0;
   s.body = read_ints_defining_count(f, g + "/body", 1, n);
   if (f.attribute_int(g, "grain_count") != static_cast<std::int64_t>(n))
     fail(path, g, "attribute grain_count does not match the length of " + g + "/body");
   const std::int64_t first_grain = wall_count();
-  for (std::int64_t b : s.body)
+  std::vector<bool> seen(static_cast<std::size_t>(std::max<std::int64_t>(body_count(), 0)), false);
+  for (std::size_t row = 0; row < s.body.size(); ++row) {
+    const std::int64_t b = s.body[row];
     if (b < first_grain || b >= body_count())
       fail(path, g + "/body", "grain index " + std::to_string(b) + " is not a grain of /bodies");
+    if (seen[static_cast<std::size_t>(b)])
+      fail(path, g + "/body", "row " + std::to_string(row) + " names grain " + std::to_string(b) + " a second time");
+    seen[static_cast<std::size_t>(b)] = true;
+  }
   s.position = read_doubles(f, g + "/position", {n, 2});
   s.angle = read_doubles(f, g + "/angle", {n});
   s.velocity = read_doubles(f, g + "/velocity", {n, 2});
@@ -399,7 +414,7 @@ WallPlacement DemFile::walls(const std::string& name) const {
 }
 
 double DemFile::run_number(const std::string& key) const {
-  return H5File::open_read(path).attribute_double("/run", key);
+  return finite_attribute(H5File::open_read(path), "/run", key);
 }
 
 std::int64_t DemFile::run_int(const std::string& key) const {

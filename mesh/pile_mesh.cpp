@@ -453,6 +453,21 @@ TriangleMesh read_triangle_mesh(const std::string& path) {
                        " is inverted or degenerate (expected counter-clockwise triangles of positive area)");
     mesh.triangles.push_back(t);
   }
+  // In a triangulation of counter-clockwise triangles each edge is traversed once in each
+  // direction (inside) or once (on the boundary). A directed edge met twice means two triangles
+  // lie on the same side of it: one triangle copied over another, or a mesh folded onto itself,
+  // which would count the grains under it twice.
+  std::map<std::pair<int, int>, std::size_t> edge_owner;
+  for (std::size_t e = 0; e < mesh.triangles.size(); ++e)
+    for (int k = 0; k < 3; ++k) {
+      const std::pair<int, int> edge{mesh.triangles[e][k], mesh.triangles[e][(k + 1) % 3]};
+      const auto [it, first] = edge_owner.emplace(edge, e);
+      if (!first)
+        throw InputError(path + ": triangles " + std::to_string(element_tags[it->second]) + " and " +
+                         std::to_string(element_tags[e]) + " overlap (both lie on the same side of the edge from node " +
+                         std::to_string(node_tags[edge.first]) + " to node " + std::to_string(node_tags[edge.second]) +
+                         "; expected a triangulation without overlaps)");
+    }
   gmsh::vectorpair groups;
   gmsh::model::getPhysicalGroups(groups, 1);
   for (const auto& [dim, tag] : groups) {

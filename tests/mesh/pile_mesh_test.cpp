@@ -234,6 +234,25 @@ TEST(PileMesh, InvertedTriangleIsRefused) {
   }
 }
 
+// A triangle copied over another (the same corners under a new element number) would count the
+// grains under it twice in every coarse-grained field: refused, naming both triangles.
+TEST(PileMesh, OverlappingTrianglesAreRefused) {
+  const std::string square = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n";
+  const std::string good = temp_path("two_triangles.msh");
+  std::ofstream(good) << square << "$Elements\n2\n1 2 2 100 1 1 2 3\n2 2 2 100 1 1 3 4\n$EndElements\n";
+  EXPECT_NEAR(mesh_area(read_triangle_mesh(good)), 1.0, 1e-15);  // the square, as a control
+  const std::string copied = temp_path("copied_triangle.msh");
+  std::ofstream(copied) << square << "$Elements\n3\n1 2 2 100 1 1 2 3\n2 2 2 100 1 1 3 4\n3 2 2 100 1 2 3 1\n$EndElements\n";
+  try {
+    read_triangle_mesh(copied);
+    FAIL() << "a triangle lying over another was accepted";
+  } catch (const pilelab::InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(copied), std::string::npos) << message;
+    EXPECT_NE(message.find("triangles 1 and 3 overlap"), std::string::npos) << message;
+  }
+}
+
 TEST(PileMesh, AbsurdElementCountIsRefused) {
   MeshSpec spec;
   spec.element_size_m = 1e-5;

@@ -301,7 +301,8 @@ nlohmann::json compare_displacements(const std::string& fields_path, const std::
   const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
   double height = 0;
   for (const Vec2& p : mesh.nodes) height = std::max(height, p.y());
-  const PointFields model = reindex(raw, match_points(raw.points, dem.points, 1e-9 * height), dem.points.size());
+  const PointFields model =
+      reindex(raw, match_model_points(raw, dem, 1e-9 * height, models_path, name, fields_path), dem.points.size());
   nlohmann::json out = displacement_and_strain_differences(mesh, model, dem);
   if (k.has_change) out["displacement_scale_dem_over_model"] = k.change;
   if (!k.skipped.empty()) out["displacement_comparison_skipped"] = k.skipped;
@@ -635,7 +636,8 @@ ComparedModel compare_model(const std::string& name, const std::string& models_p
                             const std::vector<PointFields>& jackknife) {
   PointFields raw = read_model_fields(models_path, name);
   const Scales k = scale_to_dem(raw, name, fields_path, models_path, dem);
-  const std::vector<int> index = match_points(raw.points, dem.points, 1e-9 * std::max(height, 1e-300));
+  const std::vector<int> index =
+      match_model_points(raw, dem, 1e-9 * std::max(height, 1e-300), models_path, name, fields_path);
   ComparedModel out{reindex(raw, index, dem.points.size()), nlohmann::json::object(), k.stress};
   nlohmann::json& m = out.numbers;
   m["matched_points"] = std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; });

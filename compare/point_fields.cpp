@@ -180,6 +180,18 @@ std::vector<int> match_points(const std::vector<Vec2>& from, const std::vector<V
   return index;
 }
 
+std::vector<int> match_model_points(const PointFields& model, const PointFields& dem, double tol, const std::string& models_path,
+                                    const std::string& model_name, const std::string& fields_path) {
+  std::vector<int> index = match_points(model.points, dem.points, tol);
+  const auto matched = static_cast<std::size_t>(std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; }));
+  if (matched < dem.points.size())
+    throw InputError(models_path + ": /" + model_name + "/points: " + std::to_string(matched) + " of the " +
+                     std::to_string(dem.points.size()) + " points of " + fields_path +
+                     " are points of this model: the two files come from different meshes (solve on the mesh the fields "
+                     "were coarse-grained on: continuum.mesh_file = coarse's mesh_file)");
+  return index;
+}
+
 PointFields reindex(const PointFields& from, const std::vector<int>& index, std::size_t size) {
   PointFields out;
   out.source = from.source;

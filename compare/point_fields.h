@@ -46,6 +46,13 @@ std::vector<std::string> model_names(const std::string& path);
 /// or -1. Exact matches are expected: both sides sample the same mesh points.
 std::vector<int> match_points(const std::vector<Vec2>& from, const std::vector<Vec2>& to, double tol);
 
+/// match_points of a model's points (models.h5, group `model_name`) onto the DEM's (fields.h5),
+/// which must find every one: a model solved on another mesh than the one the fields were
+/// coarse-grained on is an InputError naming both files and the count matched, not a
+/// comparison over no points.
+std::vector<int> match_model_points(const PointFields& model, const PointFields& dem, double tol, const std::string& models_path,
+                                    const std::string& model_name, const std::string& fields_path);
+
 /// `from` re-indexed onto `to`'s points (unmatched points invalid).
 PointFields reindex(const PointFields& from, const std::vector<int>& index_into_from, std::size_t size);
 

@@ -164,6 +164,40 @@ TEST_F(CoarseRun, MeshThatDoesNotCoverThePile) {
     for (double v : f.read_doubles(std::string("/fields/") + q)) EXPECT_TRUE(std::isfinite(v)) << q;
 }
 
+// A mesh of another place (the same wedge moved far off the pile) holds none of the grains: it is
+// refused naming the pile and the mesh, where it was coarse-grained into empty fields and a
+// volume fraction of thousands. A mesh of part of the pile (MeshThatDoesNotCoverThePile) is fine.
+TEST_F(CoarseRun, PileOutsideTheMeshIsRefused) {
+  pilelab::mesh::MeshSpec away;
+  away.wedge = {0.05, 30.0, 30.0, 5.0};
+  away.element_size_m = 0.01;
+  pilelab::mesh::write_mesh(away, out_ + "/away.msh");
+  std::ofstream(out_ + "/away.toml") << "[coarse]\nmesh_file = \"away.msh\"\ndem_files = [\"dem.h5\"]\n";
+  try {
+    pilelab::coarse::run_coarse({out_ + "/away.toml", out_ + "/away_out", {}});
+    ADD_FAILURE() << "a pile outside its mesh was coarse-grained";
+  } catch (const pilelab::InputError& e) {
+    const std::string message = e.what();
+    for (const std::string& word : {out_ + "/dem.h5", std::string("away.msh"), std::string("lie outside")})
+      EXPECT_NE(message.find(word), std::string::npos) << message;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out_ + "/away_out/fields.h5"));
+  // A mesh far larger than the pile holds all its grains but is mostly empty: refused too.
+  pilelab::mesh::MeshSpec huge;
+  huge.wedge = {2.0, 30.0, 30.0, 0.0};
+  huge.element_size_m = 0.1;
+  pilelab::mesh::write_mesh(huge, out_ + "/huge.msh");
+  std::ofstream(out_ + "/huge.toml") << "[coarse]\nmesh_file = \"huge.msh\"\ndem_files = [\"dem.h5\"]\n";
+  try {
+    pilelab::coarse::run_coarse({out_ + "/huge.toml", out_ + "/huge_out", {}});
+    ADD_FAILURE() << "a mesh mostly without grains was coarse-grained";
+  } catch (const pilelab::InputError& e) {
+    const std::string message = e.what();
+    for (const std::string& word : {out_ + "/dem.h5", std::string("huge.msh"), std::string("% of its area")})
+      EXPECT_NE(message.find(word), std::string::npos) << message;
+  }
+}
+
 // An ensemble of two piles on one mesh: at every point the mean of the two single-pile values
 // and the standard error |a - b| / 2 (n = 2: sd = |a - b| / sqrt 2, se = sd / sqrt 2).
 TEST_F(CoarseRun, EnsembleMeanAndStandardError) {

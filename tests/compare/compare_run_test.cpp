@@ -231,6 +231,28 @@ TEST(CompareRun, ModelWithAnotherDensityAndGravityChangeIsRescaled) {
   std::filesystem::remove_all(dir);
 }
 
+// A model solved on another mesh than the fields' (a 20 x 20 square against the fields' 24 x 24:
+// only their shared corner and edge points coincide) is refused naming both files, where it was
+// compared over the few points they share, or over none.
+TEST(CompareRun, ModelsFromAnotherMeshAreRefused) {
+  const std::string dir = temp_dir("pilelab_compare_other_mesh");
+  write_fields(dir + "/fields.h5", elastic_field(3e6, 1e6));
+  write_models(dir + "/models.h5", elastic_field(3e6, 1e6, 20), 1.0, 1.0);
+  for (int closed_loop = 0; closed_loop < 2; ++closed_loop)
+    try {
+      if (closed_loop)
+        compare::compare_displacements(dir + "/fields.h5", dir + "/models.h5", "same");
+      else
+        run_compare_in(dir);
+      ADD_FAILURE() << "a model on another mesh was compared";
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      for (const std::string& word : {dir + "/models.h5", dir + "/fields.h5", std::string("/same/points"), std::string("different meshes")})
+        EXPECT_NE(message.find(word), std::string::npos) << message;
+    }
+  std::filesystem::remove_all(dir);
+}
+
 // A change of g of 0 on one side (strains from a snapshot at the same g) gives no scale: the
 // displacements and strains are left out, with the reason, and the stresses still compare.
 TEST(CompareRun, ZeroGravityChangeLeavesDisplacementsOut) {

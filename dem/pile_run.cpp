@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <thread>
 
@@ -47,6 +48,7 @@ std::string frame_name(const char* kind, std::size_t index) {
   return buf;
 }
 
+// The frames of a pour (grains_K.vtu, contacts_K.vtu) and their series dem.pvd.
 class FrameWriter {
  public:
   FrameWriter(const std::string& out_dir) : dir_(out_dir), pvd_(out_dir + "/dem.pvd") {}
@@ -55,18 +57,38 @@ class FrameWriter {
     write_grains_vtu(dir_ + "/" + frame_name("grains", k), world);
     write_contacts_vtu(dir_ + "/" + frame_name("contacts", k), world);
     times.push_back(world.time());
-    rebuild(times);
+    add_to_series(k, times[k]);
+    pvd_.write();
   }
-  void rebuild(const std::vector<double>& times) {
+  /// The series of the frames `times` (none for a new pour, a checkpoint's at a restart),
+  /// written whole; frames of a later time left by an earlier pour into the folder (another
+  /// scene, or this one beyond its checkpoint) are removed, so that none stands beside the
+  /// series as if it were this pour's.
+  void start(const std::vector<double>& times) {
+    remove_frames_from(times.size());
     pvd_ = PvdSeries(dir_ + "/dem.pvd");
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      pvd_.add(times[k], frame_name("grains", k), 0, "grains");
-      pvd_.add(times[k], frame_name("contacts", k), 1, "contacts");
-    }
+    for (std::size_t k = 0; k < times.size(); ++k) add_to_series(k, times[k]);
     pvd_.write();
   }
 
  private:
+  void add_to_series(std::size_t k, double time) {
+    pvd_.add(time, frame_name("grains", k), 0, "grains");
+    pvd_.add(time, frame_name("contacts", k), 1, "contacts");
+  }
+  void remove_frames_from(std::size_t first) const {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+      const std::string name = entry.path().filename().string();
+      for (const char* kind : {"grains_", "contacts_"}) {
+        const std::size_t prefix = std::strlen(kind);
+        const bool frame = name.size() == prefix + 9 && name.compare(0, prefix, kind) == 0 &&
+                           name.compare(prefix + 5, 4, ".vtu") == 0 &&
+                           name.find_first_not_of("0123456789", prefix) == prefix + 5;
+        if (frame && std::stoul(name.substr(prefix, 5)) >= first) std::filesystem::remove(entry.path(), ec);
+      }
+    }
+  }
   std::string dir_;
   PvdSeries pvd_;
 };
@@ -371,15 +393,18 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   FrameWriter frames(opt.out_dir);
   if (opt.restart) {
     read_checkpoint(checkpoint_path, reader.text(), protocol, counters);
-    frames.rebuild(counters.frame_times);
+    frames.start(counters.frame_times);
     if (!opt.quiet)
       std::fprintf(stderr, "restarting from %s at t = %.6f s (step %lld)\n", checkpoint_path.c_str(),
                    protocol.world().time(), static_cast<long long>(protocol.world().steps()));
-  } else if (!opt.quiet) {
-    const TimeStepBound& b = protocol.time_step_bound();
-    std::fprintf(stderr, "pilelab dem: %d grains, %s, dt = %.3e s (stable limit %.3e s), %d thread(s)\n",
-                 scene.grain_count, scheme_name(scene.scheme), protocol.world().settings().time_step, b.stable_limit,
-                 threads);
+  } else {
+    frames.start({});
+    if (!opt.quiet) {
+      const TimeStepBound& b = protocol.time_step_bound();
+      std::fprintf(stderr, "pilelab dem: %d grains, %s, dt = %.3e s (stable limit %.3e s), %d thread(s)\n",
+                   scene.grain_count, scheme_name(scene.scheme), protocol.world().settings().time_step, b.stable_limit,
+                   threads);
+    }
   }
 
   World& world = protocol.world();

@@ -1,14 +1,21 @@
 #include "dem/vtk_writer.h"
 
 #include <array>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <iomanip>
 #include <limits>
 #include <locale>
 #include <sstream>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include "common/atomic_file.h"
+#include "common/error.h"
 #include "common/portable_math.h"
 
 namespace pilelab::dem {
@@ -251,18 +258,53 @@ void PvdSeries::add(double time, const std::string& vtu_file_relative, int part,
   entries_.push_back({time, vtu_file_relative, part, name});
 }
 
-void PvdSeries::write() const {
+namespace {
+const char* const pvd_head =
+    "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+const char* const pvd_tail = "  </Collection>\n</VTKFile>\n";
+}  // namespace
+
+std::string PvdSeries::entry_text(const Entry& e) {
   // Round-trip precision: ParaView matches the times of different parts exactly.
   std::ostringstream out = make_stream(std::numeric_limits<double>::max_digits10);
-  out << "<?xml version=\"1.0\"?>\n"
-      << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <Collection>\n";
-  for (const Entry& e : entries_)
-    out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\""
-        << (e.name.empty() ? std::string() : " name=\"" + xml_escape(e.name) + "\"") << " file=\"" << xml_escape(e.file)
-        << "\"/>\n";
-  out << "  </Collection>\n</VTKFile>\n";
-  write_text_atomically(path_, out.str());
+  out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"" << e.part << "\""
+      << (e.name.empty() ? std::string() : " name=\"" + xml_escape(e.name) + "\"") << " file=\"" << xml_escape(e.file)
+      << "\"/>\n";
+  return out.str();
+}
+
+void PvdSeries::write_whole() {
+  std::string text = pvd_head;
+  for (const Entry& e : entries_) text += entry_text(e);
+  text += pvd_tail;
+  write_text_atomically(path_, text);
+  entries_written_ = entries_.size();
+  bytes_written_ = text.size();
+}
+
+void PvdSeries::write() {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path_, ec);
+  if (bytes_written_ == 0 || ec || size != bytes_written_) return write_whole();
+  std::string text;
+  for (std::size_t k = entries_written_; k < entries_.size(); ++k) text += entry_text(entries_[k]);
+  text += pvd_tail;
+  const std::uintmax_t offset = bytes_written_ - std::strlen(pvd_tail);
+  const int fd = ::open(path_.c_str(), O_WRONLY);
+  if (fd < 0) return write_whole();
+  const ssize_t n = ::pwrite(fd, text.data(), text.size(), static_cast<off_t>(offset));
+  const int error = errno;
+  if (n != static_cast<ssize_t>(text.size())) {
+    // A full disk: put the old closing tags back over what was written, within the file's old
+    // size, so the series stays the valid file of the frames before.
+    (void)!::pwrite(fd, pvd_tail, std::strlen(pvd_tail), static_cast<off_t>(offset));
+    (void)!::ftruncate(fd, static_cast<off_t>(bytes_written_));
+  }
+  ::close(fd);
+  if (n != static_cast<ssize_t>(text.size()))
+    throw InputError(path_ + ": cannot append to the file: " + (n < 0 ? std::string(std::strerror(error)) : std::string("a short write (is the disk full?)")));
+  entries_written_ = entries_.size();
+  bytes_written_ = offset + text.size();
 }
 
 }  // namespace pilelab::dem

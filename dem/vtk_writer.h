@@ -2,6 +2,7 @@
 // ParaView output: ASCII VTU files (XML UnstructuredGrid) of the grains and of the contact
 // network, and a .pvd collection that lists them by time. Every file is written atomically.
 // Arrays, units and conventions: docs/FORMAT.md, section "dem.pvd / grains_*.vtu / contacts_*.vtu".
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,16 +23,19 @@ void write_grains_vtu(const std::string& path, const World& world);
 /// chord. A world without contacts gives a valid file with no cells.
 void write_contacts_vtu(const std::string& path, const World& world);
 
-/// A .pvd collection of VTU files by time. Call write() after adding each frame's parts: the
-/// file is rewritten whole (atomically), so a killed run leaves a valid .pvd of the frames
-/// written so far.
+/// A .pvd collection of VTU files by time. Call write() after adding each frame's parts. The
+/// first write() writes the file whole (atomically); later ones append the new entries in place,
+/// with the closing tags, in one write at the old closing tags' offset, so that a long pour
+/// writes each entry once (rewriting the whole file each frame wrote 8.1 GB to keep 1.2 GB over
+/// 8138 frames) and a killed run still leaves a valid .pvd of the frames written so far. A file
+/// changed behind the series' back (another size than it wrote) is written whole again.
 class PvdSeries {
  public:
   explicit PvdSeries(std::string path);
   /// vtu_file_relative is relative to the directory of the .pvd; part tells apart files of the
   /// same time (e.g. 0 grains, 1 contacts), and name is the block's name in ParaView.
   void add(double time, const std::string& vtu_file_relative, int part, const std::string& name = "");
-  void write() const;
+  void write();
   std::size_t size() const { return entries_.size(); }
   const std::string& path() const { return path_; }
 
@@ -42,8 +46,12 @@ class PvdSeries {
     int part;
     std::string name;
   };
+  static std::string entry_text(const Entry& e);
+  void write_whole();
   std::string path_;
   std::vector<Entry> entries_;
+  std::size_t entries_written_ = 0;   ///< entries in the file
+  std::uintmax_t bytes_written_ = 0;  ///< the file's size after the last write (0: never written)
 };
 
 }  // namespace pilelab::dem

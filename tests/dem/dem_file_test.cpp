@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -340,6 +341,46 @@ TEST_F(DemFileTest, NonFiniteAndNonPositiveValuesAreNamedWithTheirRow) {
   }
 }
 
+// A snapshot's attributes are physical values too, and its grains are each named once: an
+// infinite gravity or a grain listed twice is refused here, not written on into fields.h5
+// (where the next stage would blame fields.h5).
+TEST_F(DemFileTest, NonFiniteAttributesAndRepeatedGrainsAreRefused) {
+  TinyWorld t;
+  {
+    const std::string path = written_dem_file(t);
+    damage(path, [](hid_t f) {
+      // Replaced, not overwritten in place: the same attribute, now infinite.
+      ASSERT_GE(H5Adelete_by_name(f, "/snapshots/settled", "gravity_m_per_s2", H5P_DEFAULT), 0);
+      const hid_t space = H5Screate(H5S_SCALAR);
+      const hid_t a = H5Acreate_by_name(f, "/snapshots/settled", "gravity_m_per_s2", H5T_NATIVE_DOUBLE, space,
+                                        H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      ASSERT_GE(a, 0);
+      const double infinite = INFINITY;
+      EXPECT_GE(H5Awrite(a, H5T_NATIVE_DOUBLE, &infinite), 0);
+      H5Aclose(a);
+      H5Sclose(space);
+    });
+    expect_input_error([&] { read_dem_file(path).snapshot("settled"); },
+                       {path, "/snapshots/settled", "gravity_m_per_s2", "infinite"});
+  }
+  {
+    const std::string path = written_dem_file(t);
+    damage(path, [](hid_t f) {
+      const hid_t ds = H5Dopen2(f, "/snapshots/settled/body", H5P_DEFAULT);
+      ASSERT_GE(ds, 0);
+      const hid_t space = H5Dget_space(ds);
+      std::vector<std::int64_t> body(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+      H5Sclose(space);
+      ASSERT_GE(body.size(), 2u);
+      H5Dread(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, body.data());
+      body[1] = body[0];
+      H5Dwrite(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, body.data());
+      H5Dclose(ds);
+    });
+    expect_input_error([&] { read_dem_file(path).snapshot("settled"); }, {path, "/snapshots/settled/body", "row 1", "a second time"});
+  }
+}
+
 TEST_F(DemFileTest, VertexOffsetsMustMatchVertices) {
   TinyWorld t;
   const std::string path = written_dem_file(t);
@@ -358,6 +399,33 @@ TEST_F(DemFileTest, VertexOffsetsMustMatchVertices) {
 // --- VTU / PVD --------------------------------------------------------------------------
 
 std::string slurp(const std::string& path) { return read_text_file(path); }
+
+// A series grown frame by frame is appended in place (the file keeps its inode: it is not
+// rewritten and renamed each frame), holds after every frame exactly the bytes a whole write of
+// the same entries gives, and is written whole again when changed behind its back.
+TEST_F(DemFileTest, PvdSeriesGrowsInPlace) {
+  PvdSeries grown(file("grown.pvd"));
+  struct stat first {};
+  for (int k = 0; k < 50; ++k) {
+    const double time = 1e-3 * k + 1.0 / 3.0;
+    const std::string name = "grains_" + std::to_string(k) + ".vtu";
+    grown.add(time, name, 0, "grains");
+    grown.write();
+    PvdSeries whole(file("whole.pvd"));
+    for (int j = 0; j <= k; ++j) whole.add(1e-3 * j + 1.0 / 3.0, "grains_" + std::to_string(j) + ".vtu", 0, "grains");
+    whole.write();
+    ASSERT_EQ(slurp(file("grown.pvd")), slurp(file("whole.pvd"))) << "after frame " << k;
+    struct stat now {};
+    ASSERT_EQ(::stat(file("grown.pvd").c_str(), &now), 0);
+    if (k == 0) first = now;
+    EXPECT_EQ(now.st_ino, first.st_ino) << "frame " << k << " rewrote the file instead of appending";
+  }
+  std::ofstream(file("grown.pvd"), std::ios::app) << "<!-- edited -->\n";
+  grown.add(1.0, "grains_50.vtu", 0, "grains");
+  grown.write();
+  EXPECT_EQ(slurp(file("grown.pvd")).find("edited"), std::string::npos);
+  EXPECT_NE(slurp(file("grown.pvd")).find("grains_50.vtu\"/>\n  </Collection>\n</VTKFile>\n"), std::string::npos);
+}
 
 TEST_F(DemFileTest, VtuAndPvdFiles) {
   TinyWorld t;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 
 #include "../cli/cli_test_support.h"
 
@@ -218,6 +219,37 @@ TEST_F(Reliability, ASecondWriterIntoTheSameFolderIsRefused) {
   std::ifstream log(path("first.log"));
   EXPECT_EQ(code, 0) << std::string(std::istreambuf_iterator<char>(log), {});
   EXPECT_TRUE(std::filesystem::exists(out + "/dem.h5"));
+}
+
+// A second scene poured into a folder where a first left more frames: afterwards every frame in
+// the folder is one of dem.pvd's, and every one dem.pvd names is there (before: the first pile's
+// later frames stood beside the second's series).
+TEST_F(Reliability, ASecondPourIntoAFolderLeavesNoStaleFrames) {
+  std::string dense = tiny_scene();
+  const std::string interval = "frame_interval_s = 0.1";
+  ASSERT_NE(dense.find(interval), std::string::npos);
+  dense.replace(dense.find(interval), interval.size(), "frame_interval_s = 0.02");
+  const std::string out = path("out");
+  ASSERT_EQ(run("dem " + write_scene("dense.toml", dense) + " -o " + out + " -q -j 1").exit_code, 0);
+  const auto frames = [&] {
+    std::set<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(out)) {
+      const std::string name = e.path().filename().string();
+      if (name.size() > 4 && name.compare(name.size() - 4, 4, ".vtu") == 0) names.insert(name);
+    }
+    return names;
+  };
+  const std::size_t first_pour = frames().size();
+  ASSERT_EQ(run("dem " + write_scene("tiny.toml", tiny_scene()) + " -o " + out + " -q -j 1").exit_code, 0);
+  const std::set<std::string> left = frames();
+  ASSERT_LT(left.size(), first_pour) << "the second pour must write fewer frames for this test";
+  const std::string pvd = read_file(out + "/dem.pvd");
+  std::set<std::string> listed;
+  for (std::size_t at = pvd.find("file=\""); at != std::string::npos; at = pvd.find("file=\"", at + 1)) {
+    const std::size_t start = at + 6;
+    listed.insert(pvd.substr(start, pvd.find('"', start) - start));
+  }
+  EXPECT_EQ(left, listed);
 }
 
 // The figures on a full disk: the folder and the system's reason, exit code 2, no traceback and

@@ -13,9 +13,14 @@
 Pure Python on numpy and h5py (Debian's python3-numpy and python3-h5py). Files are opened only
 when a property is first used, and every string comes back as `str`. Units: every array has
 its unit in the `units` mapping of the object that holds it (SI, as docs/FORMAT.md lists them).
+
+Files are checked as the C++ readers check them (format and format_version, shapes, index
+ranges, finite numbers): a missing, damaged or truncated one is a FormatError (a ValueError)
+whose message starts with the file's path and names the field and what was expected.
 """
+from pilelab._check import FormatError
 from pilelab.dem import Contacts, DemFile, Snapshot
 from pilelab.fields import Fields, Models
 from pilelab.run import Member, Run, load
 
-__all__ = ["load", "Run", "Member", "DemFile", "Snapshot", "Contacts", "Fields", "Models"]
+__all__ = ["load", "FormatError", "Run", "Member", "DemFile", "Snapshot", "Contacts", "Fields", "Models"]

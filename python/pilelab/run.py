@@ -6,16 +6,21 @@ from collections import defaultdict
 
 import numpy as np
 
+from pilelab._check import FormatError, MissingFileError, fail
 from pilelab.dem import DemFile
 from pilelab.fields import Fields, Models
 
 
-def _toml(text):
+def _toml(text, source):
+    """The scene's TOML text parsed (None before Python 3.11); source names where it came from."""
     try:
         import tomllib  # Python 3.11
     except ImportError:  # pragma: no cover
         return None
-    return tomllib.loads(text)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        fail(source, "/scene", f"not valid TOML ({e})")
 
 
 def _cached(loader):
@@ -58,7 +63,8 @@ class Run:
     def __init__(self, path):
         self.path = os.fspath(path)
         if not os.path.isdir(self.path):
-            raise FileNotFoundError(f"{self.path}: no such run directory")
+            found = "a file" if os.path.exists(self.path) else "nothing"
+            raise MissingFileError(f"{self.path}: expected a run directory, found {found} there")
 
     def file(self, name):
         return os.path.join(self.path, name)
@@ -83,22 +89,27 @@ class Run:
     def _profile_table(self):
         return _read_profiles(self.file("profiles.csv"))
 
+    def _scene_file(self):
+        """The DemFile the scene comes from: the run's, else its first member's (or None)."""
+        if self.dem is not None:
+            return self.dem
+        if self.members and self.members[0].dem is not None:
+            return self.members[0].dem
+        return None
+
     @property
     def scene_text(self):
-        if self.dem is not None:
-            return self.dem.scene
-        if self.members and self.members[0].dem is not None:
-            return self.members[0].dem.scene
-        return ""
+        dem = self._scene_file()
+        return dem.scene if dem is not None else ""
 
     @property
     def scene(self):
-        return _toml(self.scene_text) or {}
+        dem = self._scene_file()
+        return (_toml(dem.scene, dem.path) or {}) if dem is not None else {}
 
     @property
     def members(self):
-        e = self.report.get("ensemble", {})
-        return [Member(os.path.join(self.path, m["directory"]), m["seed"]) for m in e.get("members", [])]
+        return [Member(os.path.join(self.path, directory), seed) for directory, seed in _ensemble_members(self)]
 
     def profiles(self, source=None, quantity=None):
         """profiles.csv: with source and quantity, a dict y_over_h -> structured array of
@@ -119,6 +130,7 @@ class Run:
     def base_pressure(self, source="dem"):
         """sigma_yy / rho g h along the lowest cut: x [m], value, standard error (the profile the
         paper's Fig. 9A plots; compression positive)."""
+        _require_file(self.file("profiles.csv"), "`pilelab coarse`")
         cuts = self.profiles(source, "sigma_yy")
         if not cuts:
             raise KeyError(f"{self.path}: profiles.csv has no sigma_yy rows of {source!r}")
@@ -131,14 +143,18 @@ class Run:
         contacts per unit length, binned a grain diameter wide; the report's
         dem.plate_force_profile): x [m], load [N/m], standard error. One pile: its profile, with
         no error (zeros); an ensemble: the members' mean and its standard error."""
-        piles = [m.report for m in self.members] or [self.report]
-        profiles = [r.get("dem", {}).get("plate_force_profile") for r in piles]
-        if not profiles or any(p is None for p in profiles):
-            raise KeyError(f"{self.path}: a report without dem.plate_force_profile (a pile poured before it was measured)")
-        x = np.asarray(profiles[0]["x_m"], dtype=float)
-        loads = np.array([p["load_N_per_m"] for p in profiles], dtype=float)
-        if loads.shape[1] != x.size:
-            raise ValueError(f"{self.path}: the members' plate profiles have different bins")
+        piles = [(m.path, m.report) for m in self.members] or [(self.path, self.report)]
+        for directory, report in piles:
+            _require_file(os.path.join(directory, "report.json"), "`pilelab run`")
+            if not isinstance(report.get("dem"), dict) or "plate_force_profile" not in report["dem"]:
+                raise KeyError(f"{os.path.join(directory, 'report.json')}: no dem.plate_force_profile "
+                               "(a pile poured before it was measured)")
+        profiles = [_plate_profile(os.path.join(d, "report.json"), r["dem"]["plate_force_profile"]) for d, r in piles]
+        x = profiles[0][0]
+        if any(px.size != x.size for px, _ in profiles):
+            raise FormatError(f"{self.path}: the members' dem.plate_force_profile have different numbers of bins; "
+                              "expected the same bins")
+        loads = np.array([load for _, load in profiles])
         stderr = loads.std(axis=0, ddof=1) / np.sqrt(len(loads)) if len(loads) > 1 else np.zeros_like(x)
         return x, loads.mean(axis=0), stderr
 
@@ -148,40 +164,106 @@ _OUTPUTS = ("report.json", "dem.h5", "fields.h5", "models.h5", "pile.msh")
 
 
 def load(path):
-    """The run in directory path (see Run). A directory that holds none of a run's outputs
-    (empty, or another folder named by mistake) is an error naming it."""
+    """The run in directory path (see Run). A path that is not a directory, or a directory that
+    holds none of a run's outputs (empty, or another folder named by mistake), is a FormatError
+    (also a FileNotFoundError) naming it. Files are read, and checked, on first use: a damaged
+    one is a FormatError naming the file and the field."""
     run = Run(path)
     if not any(os.path.exists(run.file(name)) for name in _OUTPUTS):
-        raise FileNotFoundError(f"{run.path}: no run's outputs here (none of {', '.join(_OUTPUTS)}); "
-                                "`pilelab run SCENE -o DIR` writes them")
+        raise MissingFileError(f"{run.path}: no run's outputs here (none of {', '.join(_OUTPUTS)}); "
+                               "`pilelab run SCENE -o DIR` writes them")
     return run
+
+
+def _require_file(path, writer):
+    """For helpers that need a file the run may lack (its property is then None or empty)."""
+    if not os.path.exists(path):
+        raise MissingFileError(f"{path}: missing; {writer} writes it")
 
 
 def _read_json(path):
     """A JSON file as a dict ({} when missing); a damaged or truncated one is an error naming it."""
     if not os.path.exists(path):
         return {}
-    with open(path, encoding="utf-8") as f:
-        try:
+    try:
+        with open(path, encoding="utf-8") as f:
             value = json.load(f)
-        except json.JSONDecodeError as e:
-            raise ValueError(f"{path}: not valid JSON ({e.msg} at line {e.lineno}, column {e.colno}): "
-                             "damaged, or written by a run that was killed") from None
+    except json.JSONDecodeError as e:
+        raise FormatError(f"{path}: line {e.lineno}, column {e.colno}: not valid JSON ({e.msg}): "
+                          "damaged, or written by a run that was killed") from None
+    except UnicodeDecodeError as e:
+        raise FormatError(f"{path}: byte {e.start}: not UTF-8 text; expected JSON") from None
+    except OSError as e:  # a directory of that name, no permission
+        raise FormatError(f"{path}: cannot read ({e.strerror}); expected a JSON file") from None
     if not isinstance(value, dict):
-        raise ValueError(f"{path}: expected a JSON object, found {type(value).__name__}")
+        raise FormatError(f"{path}: top level: found a JSON {type(value).__name__}; expected an object")
     return value
+
+
+def _ensemble_members(run):
+    """(directory, seed) of each member listed in report.json's ensemble.members."""
+    path = run.file("report.json")
+    ensemble = run.report.get("ensemble", {})
+    members = ensemble.get("members", []) if isinstance(ensemble, dict) else None
+    if not isinstance(members, list):
+        fail(path, "ensemble.members", "expected a list of members")
+    out = []
+    for i, m in enumerate(members):
+        ok = isinstance(m, dict) and isinstance(m.get("directory"), str) and isinstance(m.get("seed"), int)
+        if not ok:
+            fail(path, f"ensemble.members[{i}]", f"is {m!r}; expected an object with directory (a string) and seed "
+                                                 "(an integer)")
+        out.append((m["directory"], m["seed"]))
+    return out
+
+
+def _plate_profile(path, profile):
+    """dem.plate_force_profile of one report: bin centres x_m and load_N_per_m, same length."""
+    field = "dem.plate_force_profile"
+    try:
+        x = np.asarray(profile["x_m"], dtype=float)
+        load = np.asarray(profile["load_N_per_m"], dtype=float)
+    except (KeyError, TypeError, ValueError) as e:
+        fail(path, field, f"expected x_m and load_N_per_m, lists of numbers ({type(e).__name__}: {e})")
+    if x.ndim != 1 or load.shape != x.shape:
+        fail(path, field, f"x_m has shape {x.shape}, load_N_per_m {load.shape}; expected two lists of one length")
+    return x, load
 
 
 def _if_exists(path, reader):
     return reader(path) if os.path.exists(path) else None
 
 
+_PROFILE_COLUMNS = ("source", "quantity", "y_over_h", "x_m", "value", "stderr")
+
+
 def _read_profiles(path):
+    """profiles.csv as (source, quantity) -> y_over_h -> [(x_m, value, stderr)]; a missing
+    column or a cell that is not a number is a FormatError naming the line and the column."""
     table = defaultdict(lambda: defaultdict(list))
     if not os.path.exists(path):
         return {}
-    with open(path, newline="", encoding="utf-8") as f:
-        for r in csv.DictReader(f):
-            err = float(r["stderr"]) if r["stderr"] not in ("", None) else 0.0
-            table[(r["source"], r["quantity"])][float(r["y_over_h"])].append((float(r["x_m"]), float(r["value"]), err))
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = csv.DictReader(f)
+            missing = [c for c in _PROFILE_COLUMNS if c not in (rows.fieldnames or [])]
+            if missing:
+                fail(path, "line 1", f"no column {', '.join(missing)}; expected the columns {', '.join(_PROFILE_COLUMNS)}")
+            for r in rows:
+                numbers = [_csv_number(path, rows.line_num, r, c) for c in ("y_over_h", "x_m", "value", "stderr")]
+                y_over_h, x, value, err = numbers
+                table[(r["source"], r["quantity"])][y_over_h].append((x, value, 0.0 if err is None else err))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        fail(path, "the table", f"cannot read it ({e}); expected CSV text")
     return {k: dict(v) for k, v in table.items()}
+
+
+def _csv_number(path, line, row, column):
+    """The cell as a float; an empty stderr (a model's row) is None."""
+    cell = row[column]
+    if column == "stderr" and cell in ("", None):
+        return None
+    try:
+        return float(cell)
+    except (TypeError, ValueError):
+        fail(path, f"line {line}, column {column}", f"is {cell!r}; expected a number")

@@ -8,7 +8,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
+#include <vector>
 
 #include "../cli/cli_test_support.h"
 
@@ -173,6 +175,48 @@ TEST_F(Reliability, AFullDiskDuringMeshKeepsTheGoodMesh) {
   EXPECT_NE(r.output.find("pile.msh"), std::string::npos) << "the message should name the file:\n" << r.output;
   EXPECT_TRUE(read_file(out + "/pile.msh") == good) << "the good mesh was replaced";
   expect_no_temporary_files(out);
+}
+
+// Every stage on a full disk and on a read-only folder, in a folder holding a finished run: a
+// clear error (exit code 2) naming a file or the folder, every file of the finished run left as
+// it was (no good file replaced by a bad one), and no temporary file (issue 58 points 1 and 2).
+TEST_F(Reliability, EveryStageOnAFullDiskOrAReadOnlyFolderKeepsTheGoodFiles) {
+  const std::string scene = std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny_pipeline.toml";
+  const std::string good = path("good");
+  ASSERT_EQ(run("run " + scene + " -o " + good + " -q --no-figures").exit_code, 0);
+  std::map<std::string, std::string> before;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(good))
+    if (e.is_regular_file() && e.path().filename() != ".pilelab.lock")
+      before[std::filesystem::relative(e.path(), good).string()] = read_file(e.path().string());
+  std::vector<std::string> stages = {"mesh", "coarse", "compare"};
+#ifdef PILELAB_WITH_CONTINUUM
+  stages.push_back("solve");
+#endif
+  for (const std::string& stage : stages)
+    for (const bool read_only : {false, true}) {
+      SCOPED_TRACE(stage + (read_only ? " on a read-only folder" : " on a full disk"));
+      const std::string mount_point = path("disk_" + stage + (read_only ? "_ro" : "_full"));
+      const MountedTmpfs disk(mount_point, "size=4m");
+      if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs root)";
+      const std::string out = mount_point + "/out";
+      std::filesystem::copy(good, out, std::filesystem::copy_options::recursive);
+      if (read_only) {
+        ASSERT_EQ(std::system(("mount -o remount,ro " + mount_point).c_str()), 0);
+      } else {
+        // 8 KiB left: room for a stage's probe, not for report.json (18 KB) or any output.
+        const std::uintmax_t room = std::filesystem::space(out).available;
+        std::ofstream filler(mount_point + "/filler", std::ios::binary);
+        const std::string block(4096, '\0');
+        for (std::uintmax_t n = 0; n + 8192 < room; n += block.size()) filler << block;
+      }
+      const auto r = run(stage + " " + scene + " -o " + out);
+      EXPECT_EQ(r.exit_code, 2) << "expected a clear error (exit code 2):\n" << r.output;
+      EXPECT_NE(r.output.find(out), std::string::npos) << "the message should name the file or folder:\n" << r.output;
+      EXPECT_NE(r.output.find(read_only ? "Read-only file system" : "pilelab: error: "), std::string::npos) << r.output;
+      for (const auto& [file, bytes] : before)
+        EXPECT_TRUE(read_file(out + "/" + file) == bytes) << file << " was changed";
+      expect_no_temporary_files(out);
+    }
 }
 
 #ifdef PILELAB_WITH_CONTINUUM

@@ -147,7 +147,9 @@ PointFields read_model_fields(const std::string& path, const std::string& model)
   for (std::size_t i = 0; i < dims[0]; ++i) out.points.emplace_back(xy[2 * i], xy[2 * i + 1]);
   for (const std::string& name : f.list(g)) {
     if (name == "points") continue;
-    auto values = f.read_doubles(g + "/" + name);
+    // A model is evaluated at its own mesh's nodes, so every value is a number: a NaN or an
+    // infinity is damage, refused with its row, not a point quietly left out of the comparison.
+    auto values = f.read_finite_doubles(g + "/" + name);
     if (values.size() != out.points.size())
       throw InputError(path + ": " + g + "/" + name + " does not have one value per point");
     std::vector<char> ok(values.size());

@@ -137,20 +137,31 @@ std::vector<ProfileValue> sample_profiles(const Triangulation<2>& tria, const Pi
 
 std::vector<std::vector<double>> evaluate_at_points(const std::vector<Point<2>>& points, std::size_t nq,
                                                     const PointEvaluator& evaluate, MPI_Comm comm) {
-  // Each point is evaluated by the one rank that owns its cell; a sum over ranks gathers them.
+  // Each point is evaluated by the ranks that own a cell around it. A point on the border of
+  // two ranks' cells (a vertex, as every models.h5 point is) is found by both: the lowest of
+  // them gives its value, so that each point has exactly one value, whatever the partition
+  // (a sum of both made such points NaN). A point no rank finds is outside the mesh: NaN.
   const std::size_t n = points.size();
-  std::vector<double> local((nq + 1) * n, 0.0), global((nq + 1) * n);
+  const int rank = static_cast<int>(Utilities::MPI::this_mpi_process(comm));
+  const int nobody = static_cast<int>(Utilities::MPI::n_mpi_processes(comm));
+  std::vector<double> local_values(nq * n, 0.0);
+  std::vector<int> local_owner(n, nobody), owner(n);
   std::vector<double> v(nq);
   for (std::size_t i = 0; i < n; ++i)
     if (evaluate(points[i], v)) {
-      local[(nq + 1) * i] = 1.0;
-      for (std::size_t q = 0; q < nq; ++q) local[(nq + 1) * i + 1 + q] = v[q];
+      local_owner[i] = rank;
+      for (std::size_t q = 0; q < nq; ++q) local_values[nq * i + q] = v[q];
     }
-  MPI_Allreduce(local.data(), global.data(), static_cast<int>(global.size()), MPI_DOUBLE, MPI_SUM, comm);
+  MPI_Allreduce(local_owner.data(), owner.data(), static_cast<int>(n), MPI_INT, MPI_MIN, comm);
+  for (std::size_t i = 0; i < n; ++i)
+    if (owner[i] != rank)
+      for (std::size_t q = 0; q < nq; ++q) local_values[nq * i + q] = 0.0;
+  std::vector<double> global(nq * n);
+  MPI_Allreduce(local_values.data(), global.data(), static_cast<int>(global.size()), MPI_DOUBLE, MPI_SUM, comm);
   std::vector<std::vector<double>> out(nq, std::vector<double>(n));
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t q = 0; q < nq; ++q)
-      out[q][i] = global[(nq + 1) * i] == 1.0 ? global[(nq + 1) * i + 1 + q] : std::numeric_limits<double>::quiet_NaN();
+      out[q][i] = owner[i] < nobody ? global[nq * i + q] : std::numeric_limits<double>::quiet_NaN();
   return out;
 }
 

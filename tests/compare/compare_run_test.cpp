@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "common/hdf5_file.h"
 #include "common/report.h"
@@ -250,6 +251,26 @@ TEST(CompareRun, ModelsFromAnotherMeshAreRefused) {
       for (const std::string& word : {dir + "/models.h5", dir + "/fields.h5", std::string("/same/points"), std::string("different meshes")})
         EXPECT_NE(message.find(word), std::string::npos) << message;
     }
+  std::filesystem::remove_all(dir);
+}
+
+// A model's value that is not a number is damage (its points are its own mesh's vertices, all
+// inside): refused naming the dataset and the row, not a point quietly left out of every norm.
+TEST(CompareRun, NonFiniteModelValueIsNamed) {
+  const std::string dir = temp_dir("pilelab_compare_nan_model");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  Synthetic damaged = s;
+  damaged.fields["stress_yy"][7] = std::numeric_limits<double>::infinity();
+  write_models(dir + "/models.h5", damaged, 1.0, 1.0);
+  try {
+    run_compare_in(dir);
+    ADD_FAILURE() << "an infinite model value was compared";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    for (const std::string& word : {dir + "/models.h5", std::string("/same/stress_yy"), std::string("value 7 is infinite")})
+      EXPECT_NE(message.find(word), std::string::npos) << message;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -67,10 +67,60 @@ def frame_camera(view, source, size):
     view.CameraParallelScale = 0.55 * max(y1 - y0, (x1 - x0) / aspect)
 
 
+def cannot_write(path, reason):
+    """A full disk or a read-only folder: the file and the reason, exit code 2 (a bad environment,
+    as the C++ stages and figures.py report it), no traceback."""
+    print(f"paraview_pictures.py: {path}: cannot write: {reason}", file=sys.stderr)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(2)  # not sys.exit: ParaView's own clean-up crashed (SIGSEGV) after a failed write
+
+
+def prepare_figures_dir(out):
+    """OUT/figures made and probed before ParaView renders anything."""
+    directory = os.path.join(out, "figures")
+    probe = os.path.join(directory, f".probe.tmp.{os.getpid()}")
+    try:
+        os.makedirs(directory, exist_ok=True)
+        with open(probe, "wb") as f:
+            f.write(b"\0" * 4096)
+            f.flush()
+            os.fsync(f.fileno())
+        os.remove(probe)
+    except OSError as e:
+        if os.path.exists(probe):
+            os.remove(probe)
+        cannot_write(directory, e.strerror or e)
+
+
+def complete_png(path):
+    """Whether path is a whole PNG: its signature first and its IEND chunk last. ParaView does
+    not report a failed write (a full disk leaves a short file or none)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(8)
+            f.seek(-12, os.SEEK_END)
+            tail = f.read(12)
+    except OSError:
+        return False
+    return head == b"\x89PNG\r\n\x1a\n" and tail[4:8] == b"IEND"
+
+
 def save(view, framed, png, size=(1800, 700)):
-    """Frames the view on framed and writes png."""
+    """Frames the view on framed and writes png: under a temporary name of this process,
+    checked whole, then renamed, so that a good picture is never replaced by a broken one."""
     frame_camera(view, framed, size)
-    SaveScreenshot(png, view, ImageResolution=list(size))
+    tmp = png + f".tmp.{os.getpid()}.png"
+    SaveScreenshot(tmp, view, ImageResolution=list(size))
+    if not complete_png(tmp):
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        cannot_write(png, "ParaView wrote no complete PNG (is the disk full?); the previous picture is kept")
+    try:
+        os.replace(tmp, png)
+    except OSError as e:
+        os.remove(tmp)
+        cannot_write(png, e.strerror or e)
     print("wrote", png)
     return True
 
@@ -158,7 +208,7 @@ def main():
     if len(sys.argv) != 2:
         sys.exit("usage: xvfb-run -a pvpython scripts/paraview_pictures.py OUT")
     out = sys.argv[1]
-    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    prepare_figures_dir(out)
     directory = out
     report = os.path.join(out, "report.json")
     if not os.path.exists(os.path.join(out, "dem.pvd")) and os.path.exists(report):

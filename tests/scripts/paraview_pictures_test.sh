@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # scripts/paraview_pictures.py on a run's outputs: both pictures are written, full size and not
-# blank. Skipped (exit 77) where ParaView's pvpython or xvfb-run is not installed.
+# blank; on a full disk, exit 2 with the previous picture kept. Skipped (exit 77) where
+# ParaView's pvpython or xvfb-run is not installed.
 #   bash tests/scripts/paraview_pictures_test.sh REPO OUT
 set -euo pipefail
 repo=$1 out=$2
@@ -37,3 +38,29 @@ for name in ("paraview_force_chains.png", "paraview_stress.png"):
     assert a.std() > 0.05, f"{name} is nearly uniform (std {a.std():.3f})"
     print(name, a.shape, f"std {a.std():.3f}")
 PY
+# On a full disk (a 64 KiB tmpfs as OUT/figures, where root may mount one): exit 2 naming the
+# picture, no traceback, no temporary file, and the picture already there kept whole.
+disk=$(mktemp -d)
+if mount -t tmpfs -o size=64k tmpfs "$disk" 2>/dev/null; then
+  trap 'umount "$disk"; rm -rf "$disk"' EXIT
+  full=$(mktemp -d)
+  cp "$out"/report.json "$out"/*.pvd "$out"/*.vtu "$out"/*.h5 "$full"/ 2>/dev/null || true
+  ln -s "$disk" "$full/figures"
+  head -c 20000 "$out/figures/paraview_stress.png" > "$disk/paraview_stress.png"  # "the previous picture"
+  cp "$disk/paraview_stress.png" "$full.previous"
+  set +e
+  xvfb-run -a -s "-screen 0 1920x1080x24" pvpython "$repo/scripts/paraview_pictures.py" "$full" > "$log" 2>&1
+  code=$?
+  set -e
+  if grep -q "bad X server connection" "$log"; then
+    echo "the virtual X display refused pvpython: the full-disk case is skipped"
+  else
+    [ "$code" = 2 ] || { cat "$log"; echo "full disk: exit $code, expected 2"; exit 1; }
+    grep -q "cannot write" "$log" || { cat "$log"; exit 1; }
+    ! grep -q Traceback "$log" || { cat "$log"; exit 1; }
+    ! ls "$disk" | grep -q "\.tmp\." || { ls "$disk"; echo "a temporary file was left"; exit 1; }
+    cmp -s "$disk/paraview_stress.png" "$full.previous" || { echo "the previous picture was replaced"; exit 1; }
+    echo "full disk: exit 2, $(grep 'cannot write' "$log" | head -1)"
+  fi
+  rm -rf "$full" "$full.previous"
+fi

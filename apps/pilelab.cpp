@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   pilelab::app::add_fit_command(app);
   pilelab::app::add_run_command(app);
   pilelab::app::add_check_command(app);
+  pilelab::app::add_figures_command(app);
 #ifdef PILELAB_WITH_CONTINUUM
   pilelab::app::add_solve_command(app);
 #endif

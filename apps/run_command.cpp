@@ -19,16 +19,17 @@
 
 #include "apps/child_process.h"
 #include "apps/commands.h"
-#include "apps/run_status.h"
-#include "common/output_lock.h"
 #include "apps/ensemble_members.h"
 #include "apps/parallel.h"
+#include "apps/run_log.h"
+#include "apps/run_status.h"
 #include "apps/scene_check.h"
 #include "coarse/coarse_run.h"
 #include "common/atomic_file.h"
 #include "common/ensemble.h"
 #include "common/error.h"
 #include "common/fields_attributes.h"
+#include "common/output_lock.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
 #include "common/scene_tables.h"
@@ -212,15 +213,6 @@ void run_on_ranks(const Stage& stage, MpiWorld* world, bool root) {
 
 // Figures from whatever ran (Debian's python3 with matplotlib and h5py), by a child that dies
 // with this process: a killed run leaves no script writing into OUT.
-void draw_figures(const RunOptions& opt) {
-  const std::string script = std::string(PILELAB_SOURCE_DIR) + "/scripts/figures.py";
-  if (!std::filesystem::exists("/usr/bin/python3") || !std::filesystem::exists(script)) return;
-  const int code = wait_for_child(start_child({"/usr/bin/python3", script, opt.out_dir}, opt.quiet ? "/dev/null" : ""));
-  if (code != 0)
-    throw std::runtime_error("figures: /usr/bin/python3 " + script + " " + opt.out_dir + " failed (exit code " +
-                             std::to_string(code) + ")");
-}
-
 // The run's status: every pile's findings and the later stages', into report.json and on the
 // console; a fail ends the run with exit code 3.
 void report_status(const RunOptions& opt, const EnsembleSpec& ensemble, bool stopped) {
@@ -274,6 +266,11 @@ void run_pipeline(const RunOptions& opt) {
   if (root) lock.emplace(opt.out_dir, "pilelab run " + opt.scene_path);
   on_root(world, [&] { prepare_output_directory(opt.out_dir); });
   const auto out = [&](const std::string& f) { return (std::filesystem::path(opt.out_dir) / f).string(); };
+  // OUT/run.log keeps what the console shows. It lives until the process ends, so that the
+  // error main prints after a failed stage is in it too.
+  static std::unique_ptr<RunLog> log;
+  if (root && (!log || log->path() != out("run.log")))
+    log.reset(), log = std::make_unique<RunLog>(out("run.log"), "pilelab run " + opt.scene_path + " -o " + opt.out_dir);
   const std::string state_path = out("stages.json");
   nlohmann::json state = nlohmann::json::object();
   if (std::filesystem::exists(state_path)) {
@@ -456,7 +453,7 @@ void run_pipeline(const RunOptions& opt) {
     }
   }
 
-  if (root && opt.figures && !stopped) draw_figures(opt);
+  if (root && opt.figures && !stopped) draw_figures(opt.out_dir, {false, false, opt.quiet});
   if (root) print_summary(opt.out_dir, std::chrono::duration<double>(std::chrono::steady_clock::now() - invocation_start).count());
   if (root) report_status(opt, ensemble, stopped);
 }

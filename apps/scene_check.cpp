@@ -1,5 +1,6 @@
 #include "apps/scene_check.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "coarse/coarse_scene.h"
@@ -17,11 +18,12 @@
 
 namespace pilelab::app {
 
-std::vector<std::string> check_scene(const std::string& path) {
+SceneCheck check_scene(const std::string& path, bool estimate_cost) {
   SceneReader reader = SceneReader::from_file(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   const std::string out = "OUT";  // defaults of file keys only; nothing is opened
-  std::vector<std::string> found;
+  SceneCheck check;
+  std::vector<std::string>& found = check.tables;
   reader.get_string("scene.name", "");
   reader.get_string("scene.description", "");
   if (reader.has("scene")) found.push_back("scene");
@@ -30,7 +32,11 @@ std::vector<std::string> check_scene(const std::string& path) {
     const dem::DemScene scene = dem::read_dem_scene(reader);
     // An explicit step is tested against the stability limit of the scene's own grains, which
     // only drawing them gives (about 2 s for a paper pile): the refusal `pilelab dem` gives.
-    if (scene.time_step > 0.0) dem::PileProtocol(scene, path);
+    if (scene.time_step > 0.0 || estimate_cost) {
+      const dem::PileProtocol protocol(scene, path);
+      if (estimate_cost) check.pour_cost = dem::run_cost(scene, protocol.world().settings().time_step);
+    }
+    check.grain_count = scene.grain_count;
     found.push_back("dem");
   }
   // A file a stage reads that no stage of this scene makes must exist now, not be found missing
@@ -42,8 +48,10 @@ std::vector<std::string> check_scene(const std::string& path) {
   };
   const auto made_in_out = [&](const std::string& file) { return file.rfind(out + "/", 0) == 0; };
   if (reader.has("mesh")) mesh::read_mesh_scene(reader, dir), found.push_back("mesh");
+  std::string coarse_mesh;  // the mesh each stage works on, when the scene has the stage
   if (reader.has("coarse")) {
     const coarse::CoarseSettings c = coarse::read_coarse_scene(reader, dir, out);
+    coarse_mesh = c.mesh_file;
     for (const std::string& f : c.dem_files)
       if (!made_in_out(f)) must_exist("coarse.dem_files", f);
     if (!made_in_out(c.mesh_file))
@@ -56,12 +64,51 @@ std::vector<std::string> check_scene(const std::string& path) {
   if (reader.has("compare")) compare::read_compare_scene(reader, dir, out), found.push_back("compare");
 #ifdef PILELAB_WITH_CONTINUUM
   if (reader.has("continuum")) {
-    must_exist("continuum.mesh_file", continuum::read_continuum_scene(reader, dir).mesh_file);
+    const std::string mesh_file = continuum::read_continuum_scene(reader, dir).mesh_file;
+    must_exist("continuum.mesh_file", mesh_file);
+    // compare matches the models' points to the fields' points: both must come from one mesh.
+    const std::string solve_mesh = mesh_file.empty() ? out + "/pile.msh" : mesh_file;
+    const auto same = [](const std::string& a, const std::string& b) {
+      return std::filesystem::path(a).lexically_normal() == std::filesystem::path(b).lexically_normal();
+    };
+    if (reader.has("compare") && !coarse_mesh.empty() && !same(coarse_mesh, solve_mesh))
+      throw InputError(path + ": the fields are coarse-grained on " + coarse_mesh + " (coarse.mesh_file) and the models solved on " +
+                       solve_mesh + " (continuum.mesh_file): compare needs both on one mesh; name the same file in both keys");
     found.push_back("continuum");
   }
 #endif
   reader.reject_unknown({"scene", "ensemble", "dem", "mesh", "coarse", "compare"}, scene_tables());
-  return found;
+  return check;
+}
+
+namespace {
+// A span of core time as a person reads it: seconds, minutes, hours or days.
+std::string core_time_text(double seconds) {
+  char text[64];
+  if (seconds < 120)
+    std::snprintf(text, sizeof text, "%.2g s", seconds);
+  else if (seconds < 7200)
+    std::snprintf(text, sizeof text, "%.2g min", seconds / 60);
+  else if (seconds < 172800)
+    std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
+  else
+    std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
+  return text;
+}
+}  // namespace
+
+std::string cost_text(const SceneCheck& check) {
+  if (!check.pour_cost) return "";
+  const dem::RunCost& c = *check.pour_cost;
+  const auto core_time = [&](double grain_steps) { return core_time_text(grain_steps / dem::reference_grain_steps_per_core_s); };
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "the pour: %d grains at dt = %.3g s, %.3g to %.3g s simulated (settling at its minimum or its limit): "
+                "%.3g to %.3g steps, %.3g to %.3g grain-steps, about %s to %s on one core at %.0e grain-steps/s",
+                check.grain_count, c.time_step, c.simulated.shortest, c.simulated.longest, c.steps_shortest, c.steps_longest,
+                c.grain_steps_shortest, c.grain_steps_longest, core_time(c.grain_steps_shortest).c_str(),
+                core_time(c.grain_steps_longest).c_str(), dem::reference_grain_steps_per_core_s);
+  return text;
 }
 
 }  // namespace pilelab::app

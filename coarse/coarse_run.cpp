@@ -40,6 +40,7 @@ struct Pile {
   double height = 0.0;      ///< top of the highest grain [m]
   double grain_area = 0.0;  ///< sum of grain areas [m^2]
   double mass = 0.0;        ///< [kg]
+  double time = 0.0;        ///< simulated time of the snapshot [s]
 };
 
 double top_of(const Grain& g) {
@@ -121,7 +122,7 @@ const std::vector<std::string> pile_quantities = {"stress_change_xx", "stress_ch
                                                   "volume_fraction", "coordination", "grain_count"};
 
 void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes, const Samples& samples,
-               bool with_stderr) {
+               bool with_stderr, double time_s) {
   std::vector<VtuField> fields;
   const std::size_t n = samples.stats[0].size();
   auto add = [&](const std::string& name, auto value_of) {
@@ -173,8 +174,8 @@ void write_vtu(const std::string& path, const mesh::TriangleMesh& m, bool on_nod
 
   std::vector<std::array<double, 2>> nodes;
   for (const auto& p : m.nodes) nodes.push_back({p.x(), p.y()});
-  if (on_nodes) write_triangle_vtu(path, nodes, m.triangles, fields);
-  else write_triangle_vtu(path, nodes, m.triangles, {}, fields);
+  if (on_nodes) write_triangle_vtu(path, nodes, m.triangles, fields, {}, time_s);
+  else write_triangle_vtu(path, nodes, m.triangles, {}, fields, time_s);
 }
 
 void write_fields_h5(const std::string& path, const mesh::TriangleMesh& m, bool on_nodes,
@@ -231,6 +232,7 @@ struct PileSet {
   double bulk_fraction = 0.0;    ///< grain area over pile (mesh) area
   double rho_bulk = 0.0;         ///< mean grain mass over mesh area [kg/m^2]
   double grain_size_area = 0.0;  ///< mean area of a grain [m^2]
+  double snapshot_time = 0.0;    ///< the snapshots' mean simulated time [s]
   double diameter() const { return 2 * std::sqrt(grain_size_area / M_PI); }
   /// The RVE radius that holds `count` grains on average.
   double radius_for(double count) const { return std::sqrt(count * grain_size_area / (M_PI * bulk_fraction)); }
@@ -260,7 +262,9 @@ PileSet read_piles(const CoarseSettings& settings, double mesh_area) {
     Pile pile;
     pile.path = path;
     const dem::DemFile file = dem::read_dem_file(path);
-    pile.packing = std::make_unique<Packing>(packing_from_snapshot(file, file.snapshot(settings.snapshot)));
+    const dem::Snapshot snapshot = file.snapshot(settings.snapshot);
+    pile.time = snapshot.time;
+    pile.packing = std::make_unique<Packing>(packing_from_snapshot(file, snapshot));
     // Every size below (grain diameter, RVE radius, kernel width) is derived from the grains;
     // without any they would be 0/0.
     if (pile.packing->grains.empty())
@@ -282,6 +286,7 @@ PileSet read_piles(const CoarseSettings& settings, double mesh_area) {
   const double n = static_cast<double>(set.piles.size());
   for (const Pile& p : set.piles) {
     set.mean_height += p.height / n;
+    set.snapshot_time += p.time / n;
     mean_mass += p.mass / n;
     mean_grain_area += p.grain_area / n;
     grains += static_cast<double>(p.packing->grains.size()) / n;
@@ -496,6 +501,7 @@ FieldsAttributes fields_attributes(const CoarseSettings& settings, const PileSet
   a.height_m = set.mean_height;
   a.rho_bulk_kg_per_m2 = set.rho_bulk;
   a.gravity_m_per_s2 = set.gravity;
+  a.snapshot_time_s = set.snapshot_time;
   return a;
 }
 
@@ -574,7 +580,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
   // 5. The files and the report.
   const FieldsAttributes attributes = fields_attributes(settings, set, radius, kernel_width);
   write_fields_h5(out("fields.h5"), mesh, on_nodes, points, fields, attributes);
-  write_vtu(out("fields.vtu"), mesh, on_nodes, fields, piles.size() > 1);
+  write_vtu(out("fields.vtu"), mesh, on_nodes, fields, piles.size() > 1, set.snapshot_time);
 
   const FieldSummary summary = summarise_fields(fields);
   nlohmann::json section = attributes.to_json();

@@ -16,7 +16,8 @@ nlohmann::json FieldsAttributes::to_json() const {
           {"gravity_change", gravity_change},
           {"height_m", height_m},
           {"rho_bulk_kg_per_m2", rho_bulk_kg_per_m2},
-          {"gravity_m_per_s2", gravity_m_per_s2}};
+          {"gravity_m_per_s2", gravity_m_per_s2},
+          {"snapshot_time_s", snapshot_time_s}};
 }
 
 void write_fields_attributes(H5File& f, const FieldsAttributes& a) {
@@ -52,6 +53,7 @@ FieldsAttributes read_fields_attributes(const std::string& path) {
   number("height_m", a.height_m);
   number("rho_bulk_kg_per_m2", a.rho_bulk_kg_per_m2);
   number("gravity_m_per_s2", a.gravity_m_per_s2);
+  number("snapshot_time_s", a.snapshot_time_s);
   return a;
 }
 

@@ -23,6 +23,7 @@ struct FieldsAttributes {
   double height_m = 0.0;           ///< the pile's height (the members' mean) [m]
   double rho_bulk_kg_per_m2 = 0.0; ///< bulk areal density (grains' mass over pile area) [kg/m^2]
   double gravity_m_per_s2 = 0.0;   ///< gravity of the snapshot [m/s^2]
+  double snapshot_time_s = 0.0;    ///< simulated time of the snapshot (the members' mean) [s]; 0: not known
 
   /// rho g of the stresses: a gravity stress scales with it.
   double rho_g() const { return rho_bulk_kg_per_m2 * gravity_m_per_s2; }

@@ -24,12 +24,18 @@ void write_arrays(std::ostringstream& out, const char* tag, const std::vector<Vt
 
 void write_triangle_vtu(const std::string& path, const std::vector<std::array<double, 2>>& nodes,
                         const std::vector<std::array<int, 3>>& triangles, const std::vector<VtuField>& point_data,
-                        const std::vector<VtuField>& cell_data) {
+                        const std::vector<VtuField>& cell_data, std::optional<double> time_s) {
   std::ostringstream out;
   out << std::setprecision(10);
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" << nodes.size() << "\" NumberOfCells=\""
-      << triangles.size() << "\">\n";
+      << "  <UnstructuredGrid>\n";
+  if (time_s) {  // the grid's field data, before its piece (where ParaView and meshio read it)
+    out << std::setprecision(17);  // round trip: ParaView matches times exactly
+    out << "    <FieldData>\n      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">"
+        << *time_s << "</DataArray>\n    </FieldData>\n";
+    out << std::setprecision(10);
+  }
+  out << "    <Piece NumberOfPoints=\"" << nodes.size() << "\" NumberOfCells=\"" << triangles.size() << "\">\n";
   write_arrays(out, "PointData", point_data);
   write_arrays(out, "CellData", cell_data);
   out << "      <Points>\n        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";

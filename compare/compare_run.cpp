@@ -727,6 +727,7 @@ class Comparison {
   Triangulation mesh_;
   PointFields dem_;
   double height_ = 0, apex_x_ = 0, repose_deg_ = 0;
+  FieldsAttributes attributes_;  ///< of the DEM's fields: rho g, height, the snapshot's time
   PileValues piles_;
   std::vector<PointFields> jackknife_;  ///< an ensemble's fields with each pile left out in turn
   Region lower_half_;
@@ -743,7 +744,8 @@ Comparison::Comparison(const CompareRunOptions& opt) : opt_(opt) {
   dem_ = read_dem_fields(fields_path, &mesh_, &on_nodes);
   if (!on_nodes)
     throw InputError(fields_path + ": compare needs the fields at the mesh nodes (coarse.location = \"nodes\")");
-  height_ = read_fields_attributes(fields_path).height_m;
+  attributes_ = read_fields_attributes(fields_path);
+  height_ = attributes_.height_m;
   if (!(height_ > 0))
     throw InputError(fields_path + ": root attribute height_m: expected the pile's height (> 0), found " +
                      std::to_string(height_));
@@ -772,6 +774,14 @@ nlohmann::json Comparison::run() {
                                           " piles, the model held fixed: KEY_stderr next to each KEY");
   for (const char* q : {"stress_xx", "stress_yy", "stress_xy", "stress_orientation_deg", "displacement_x", "displacement_y"})
     if (dem_.has(q)) vtu_.add(std::string("dem_") + q, dem_.at(q), dem_.valid.at(q));
+  if (dem_.has("pressure")) vtu_.add("dem_pressure", dem_.at("pressure"), dem_.valid.at("pressure"));
+  // The vertical stress as the figures and the paper draw it: compression positive, in rho g h.
+  const double rho_g_h = attributes_.rho_g() * height_;
+  if (dem_.has("stress_yy") && rho_g_h > 0) {
+    std::vector<double> v = dem_.at("stress_yy");
+    for (double& x : v) x /= -rho_g_h;
+    vtu_.add("dem_sigma_yy_over_rho_g_h", v, dem_.valid.at("stress_yy"));
+  }
   if (dem_.has("stress_yy")) vtu_.add_mask("dem_has_data", dem_.valid.at("stress_yy"));
   vtu_.add_vector("dem_displacement", dem_);
 
@@ -888,11 +898,15 @@ void Comparison::stress_strain_fits() {
 void Comparison::write_outputs() {
   std::vector<std::array<double, 2>> nodes;
   for (const auto& p : mesh_.nodes) nodes.push_back({p.x(), p.y()});
-  write_triangle_vtu(in_dir(opt_.out_dir, "compare.vtu"), nodes, mesh_.triangles, vtu_.fields);
+  // At the DEM snapshot's time, so that ParaView shows the comparison beside that frame of dem.pvd.
+  const double time = attributes_.snapshot_time_s;
+  write_triangle_vtu(in_dir(opt_.out_dir, "compare.vtu"), nodes, mesh_.triangles, vtu_.fields, {}, time);
   // A one-entry collection, so ParaView opens the comparison like the DEM's dem.pvd.
-  write_text_atomically(in_dir(opt_.out_dir, "compare.pvd"),
-                        "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n"
-                        "    <DataSet timestep=\"0\" part=\"0\" file=\"compare.vtu\"/>\n  </Collection>\n</VTKFile>\n");
+  std::ostringstream pvd;
+  pvd.precision(17);
+  pvd << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n"
+      << "    <DataSet timestep=\"" << time << "\" part=\"0\" file=\"compare.vtu\"/>\n  </Collection>\n</VTKFile>\n";
+  write_text_atomically(in_dir(opt_.out_dir, "compare.pvd"), pvd.str());
   section_["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   write_report_section(in_dir(opt_.out_dir, "report.json"), "compare", section_);
 }

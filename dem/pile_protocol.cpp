@@ -115,12 +115,25 @@ double longest_time_after_pour(const DemScene& scene, const ProtocolState& state
   return std::max(left, 0.0);
 }
 
-void check_run_length(const DemScene& scene, double time_step, const std::string& source) {
-  const RunDuration d = run_duration(scene);
-  const double n = scene.grain_count, steps = d.shortest / time_step;
+RunCost run_cost(const DemScene& scene, double time_step) {
+  RunCost c;
+  c.time_step = time_step;
+  c.simulated = run_duration(scene);
+  const double n = scene.grain_count, pour = (n - 1) / scene.pour.rate;
   // While pouring, the grains in the world grow at the rate: the grain-steps are the area under
   // n(t), n^2 / (2 rate), over the step; after it, all n grains step.
-  const double grain_steps = (n * n / (2.0 * scene.pour.rate) + n * (d.shortest - (n - 1) / scene.pour.rate)) / time_step;
+  const auto grain_steps = [&](double total) { return (n * n / (2.0 * scene.pour.rate) + n * (total - pour)) / time_step; };
+  c.steps_shortest = c.simulated.shortest / time_step;
+  c.steps_longest = c.simulated.longest / time_step;
+  c.grain_steps_shortest = grain_steps(c.simulated.shortest);
+  c.grain_steps_longest = grain_steps(c.simulated.longest);
+  return c;
+}
+
+void check_run_length(const DemScene& scene, double time_step, const std::string& source) {
+  const RunCost cost = run_cost(scene, time_step);
+  const RunDuration d = cost.simulated;
+  const double steps = cost.steps_shortest, grain_steps = cost.grain_steps_shortest;
   std::ostringstream s;
   s.precision(3);
   if (steps > max_run_steps || grain_steps > max_run_grain_steps) {

@@ -29,6 +29,21 @@ struct RunDuration {
 };
 RunDuration run_duration(const DemScene& scene);
 
+/// What a run costs at a time step: its simulated time, steps and grain-steps, from the
+/// shortest (every settling ends at its minimum time) to the longest (every settling runs to its
+/// limit), if every grain is poured on schedule.
+struct RunCost {
+  double time_step = 0.0;  ///< [s]
+  RunDuration simulated;   ///< [s]
+  double steps_shortest = 0.0, steps_longest = 0.0;
+  double grain_steps_shortest = 0.0, grain_steps_longest = 0.0;
+};
+RunCost run_cost(const DemScene& scene, double time_step);
+/// A step of a settled paper pile costs about this on one core of the reference machine
+/// (docs/PERFORMANCE.md: 8.4e6 for Verlet, fewer for Gear 5 and while pouring): the rate the
+/// cost estimates of `pilelab check` assume.
+constexpr double reference_grain_steps_per_core_s = 5e6;
+
 /// Refuses, with an InputError naming `source` and the keys, a run that no computer would
 /// finish: more time steps or grain-steps than the limits below even at its shortest (if every
 /// grain is poured; a stalled pour ends sooner), or more frames or checkpoint writes than a run

@@ -57,6 +57,13 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
     EXPECT_NE(second.output.find(std::string(stage) + std::string(8 - std::string(stage).size(), ' ') + " skipped"),
               std::string::npos)
         << stage << " was not skipped:\n" << second.output;
+
+  // `pilelab figures OUT` draws the figures again from the outputs alone.
+  std::filesystem::remove_all(path("out/figures"));
+  const auto figures = run("figures " + out);
+  ASSERT_EQ(figures.exit_code, 0) << figures.output;
+  for (const char* png : {"base_pressure.png", "pile_pressure.png"})
+    EXPECT_TRUE(std::filesystem::exists(path("out/figures/") + png)) << png << "\n" << figures.output;
 }
 
 // A wedge mesh under `pilelab run` is the poured pile's wedge, one pile as an ensemble: its

@@ -1,7 +1,9 @@
 // The status a `pilelab run` ends with (apps/run_status.h): a pile unfit for the later stages
 // stops the run with status fail and exit code 3 unless --allow-unsettled, an ensemble member's
-// findings reach the ensemble's status, and degenerate later-stage results are flagged.
+// findings reach the ensemble's status, degenerate later-stage results are flagged, and the
+// console's lines are kept in OUT/run.log.
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -50,6 +52,15 @@ TEST_F(RunStatusTest, LostGrainsStopTheRunWithFail) {
   EXPECT_FALSE(report["status"]["later_stages_ran"].get<bool>());
   EXPECT_TRUE(has_failing_item(report["status"], "dem")) << report["status"].dump();
   EXPECT_FALSE(std::filesystem::exists(path("out/fields.h5")));  // coarse never ran
+  // OUT/run.log holds what the console showed: the command, the stages, the status with every
+  // finding, and the line main printed after the run had failed.
+  std::ifstream in(path("out/run.log"));
+  const std::string log((std::istreambuf_iterator<char>(in)), {});
+  for (const std::string& line : {std::string("=== "), "pilelab run " + scene, std::string("status fail"), std::string("[dem]"),
+                                  std::string("pilelab: run failed: ")})
+    EXPECT_NE(log.find(line), std::string::npos) << line << " is not in run.log:\n" << log;
+  for (const std::string& line : {std::string("status fail"), std::string("pilelab: run failed: ")})
+    EXPECT_NE(r.output.find(line), std::string::npos) << "the console shows it as well:\n" << r.output;
 }
 
 TEST_F(RunStatusTest, AllowUnsettledRunsTheLaterStagesAndWarns) {

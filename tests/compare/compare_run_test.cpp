@@ -5,7 +5,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
+#include <vector>
 
 #include "common/hdf5_file.h"
 #include "common/report.h"
@@ -69,6 +72,7 @@ void write_fields(const std::string& path, const Synthetic& s, const std::vector
   h.set_attribute("/", "rho_bulk_kg_per_m2", 1000.0 / 9.81);
   h.set_attribute("/", "gravity_m_per_s2", 9.81);
   h.set_attribute("/", "gravity_change", with_change ? -0.1 : 0.0);
+  h.set_attribute("/", "snapshot_time_s", 2.5);
   const std::uint64_t k = s.xy.size() / 2;
   h.write("/mesh/nodes", s.xy, {k, 2}, "m");
   h.write("/mesh/triangles", s.triangles, {s.triangles.size() / 3, 3});
@@ -271,6 +275,36 @@ TEST(CompareRun, NonFiniteModelValueIsNamed) {
     for (const std::string& word : {dir + "/models.h5", std::string("/same/stress_yy"), std::string("value 7 is infinite")})
       EXPECT_NE(message.find(word), std::string::npos) << message;
   }
+  std::filesystem::remove_all(dir);
+}
+
+// compare.vtu carries the DEM's pressure and its vertical stress as the figures draw it,
+// -sigma_yy / rho g h (here rho g = 1000 N/m^2, h = 1 m, sigma_yy = -1000 (1 - y): exactly 1 - y at
+// every node), and the snapshot's time for ParaView, in the file and in compare.pvd.
+TEST(CompareRun, CompareVtuHasTheDemPressureTheScaledStressAndTheTime) {
+  const std::string dir = temp_dir("pilelab_compare_vtu");
+  const Synthetic s = elastic_field(3e6, 1e6);
+  write_fields(dir + "/fields.h5", s);
+  write_models(dir + "/models.h5", s, 1.0, 1.0);
+  run_compare_in(dir);
+  std::ifstream in(dir + "/compare.vtu");
+  const std::string vtu((std::istreambuf_iterator<char>(in)), {});
+  const auto values_of = [&](const std::string& name) {
+    const std::size_t at = vtu.find("Name=\"" + name + "\"");
+    EXPECT_NE(at, std::string::npos) << name;
+    std::istringstream numbers(vtu.substr(vtu.find('>', at) + 1));
+    std::vector<double> v(s.xy.size() / 2);
+    for (double& x : v) numbers >> x;
+    return v;
+  };
+  const std::vector<double> sigma = values_of("dem_sigma_yy_over_rho_g_h"), pressure = values_of("dem_pressure");
+  for (std::size_t i = 0; i < sigma.size(); ++i) {
+    EXPECT_NEAR(sigma[i], 1 - s.xy[2 * i + 1], 1e-9) << i;  // the file's 10 digits
+    EXPECT_NEAR(pressure[i], s.fields.at("pressure")[i], 1e-9 * 700) << i;
+  }
+  EXPECT_NE(vtu.find("Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">2.5<"), std::string::npos);
+  std::ifstream pvd(dir + "/compare.pvd");
+  EXPECT_NE(std::string((std::istreambuf_iterator<char>(pvd)), {}).find("timestep=\"2.5\""), std::string::npos);
   std::filesystem::remove_all(dir);
 }
 

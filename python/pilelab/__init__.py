@@ -8,6 +8,9 @@
     s.contacts.grain_b                       # rows into the snapshot's grain arrays (-1: a wall)
     run.fields["stress_yy"], run.fields.stderr("stress_yy")
     run.profiles("dem", "sigma_yy")          # the horizontal cuts of profiles.csv
+    run.geometry(), run.plate_load(scaled=True)   # apex and R; the plate's load along (x - apex) / R
+    s.to_frame(), s.contacts.to_frame()      # pandas DataFrames, SI units in the column names
+    s.coordination_number(walls=False)       # 2 C_gg / N
     [m.dem.snapshot().position for m in run.members]   # an ensemble's piles
 
 Pure Python on numpy and h5py (Debian's python3-numpy and python3-h5py). Files are opened only
@@ -21,6 +24,6 @@ whose message starts with the file's path and names the field and what was expec
 from pilelab._check import FormatError
 from pilelab.dem import Contacts, DemFile, Snapshot
 from pilelab.fields import Fields, Models
-from pilelab.run import Member, Run, load
+from pilelab.run import Member, PileGeometry, Run, load
 
-__all__ = ["load", "FormatError", "Run", "Member", "DemFile", "Snapshot", "Contacts", "Fields", "Models"]
+__all__ = ["load", "FormatError", "Run", "Member", "PileGeometry", "DemFile", "Snapshot", "Contacts", "Fields", "Models"]

@@ -14,9 +14,37 @@ _CONTACT_ARRAYS = {"point": ("c", 2), "normal": ("c", 2), "normal_force": ("c",)
                    "force": ("c", 2), "overlap_area": ("c",), "chord": ("c",)}
 _BODY_REALS = ("mass", "moment_of_inertia", "area", "radius", "bounding_radius")
 
+# The to_frame() columns: column, the array it comes from (name, component or None) and the SI
+# unit the column's name promises, which must be the dataset's `unit` attribute (docs/FORMAT.md).
+_GRAIN_COLUMNS = (("x_m", "position", 0, "m"), ("y_m", "position", 1, "m"), ("angle_rad", "angle", None, "rad"),
+                  ("vx_m_per_s", "velocity", 0, "m/s"), ("vy_m_per_s", "velocity", 1, "m/s"),
+                  ("omega_rad_per_s", "angular_velocity", None, "rad/s"),
+                  ("contact_force_x_N", "contact_force", 0, "N"), ("contact_force_y_N", "contact_force", 1, "N"))
+_CONTACT_COLUMNS = (("x_m", "point", 0, "m"), ("y_m", "point", 1, "m"), ("normal_x", "normal", 0, "1"),
+                    ("normal_y", "normal", 1, "1"), ("normal_force_N", "normal_force", None, "N"),
+                    ("tangential_force_N", "tangential_force", None, "N"), ("force_x_N", "force", 0, "N"),
+                    ("force_y_N", "force", 1, "N"), ("overlap_area_m2", "overlap_area", None, "m^2"),
+                    ("chord_m", "chord", None, "m"))
+
 
 def _sized(shape, sizes):
     return tuple(sizes.get(d, d) for d in shape)
+
+
+def _require_unit(path, field, found, expected):
+    """A dataset's `unit` attribute must be the unit a column's name promises."""
+    if found != expected:
+        fail(path, field, f"attribute unit is {found!r}; expected {expected!r} (docs/FORMAT.md)")
+
+
+def _columns(obj, spec, path, group_name):
+    """The (column, array) pairs of spec for obj (a Snapshot or Contacts), units checked."""
+    out = []
+    for column, name, component, unit in spec:
+        _require_unit(path, f"{group_name}/{name}", obj.units[name], unit)
+        array = getattr(obj, name)
+        out.append((column, array if component is None else array[:, component]))
+    return out
 
 
 def _read_sized(group, names, units, sizes):
@@ -34,6 +62,7 @@ class Contacts:
     """
 
     def __init__(self, group, grain_row, wall_count):
+        self.path, self.group_name = path_of(group), group.name
         self.units = {}
         self.pair = read(group, "pair", self.units, shape=("c", 2), integers=True)
         _check_pairs(path_of(group), group.name + "/pair", self.pair, grain_row, wall_count)
@@ -47,6 +76,19 @@ class Contacts:
     def __len__(self):
         return len(self.normal_force)
 
+    def to_frame(self):
+        """The contacts as a pandas DataFrame, one row per contact in the table's order: body_a,
+        body_b (the pair), grain_a, grain_b (rows of the snapshot's arrays and of its
+        to_frame(); -1 for a wall), wall (True: a is a wall), x_m, y_m (the force's point),
+        normal_x, normal_y (n, from a to b), normal_force_N, tangential_force_N, force_x_N,
+        force_y_N (on b; a gets the opposite), overlap_area_m2, chord_m. Each column's unit is
+        its dataset's `unit` attribute, checked. Needs pandas (Debian's python3-pandas)."""
+        import pandas
+        columns = [("body_a", self.pair[:, 0]), ("body_b", self.pair[:, 1]), ("grain_a", self.grain_a),
+                   ("grain_b", self.grain_b), ("wall", self.grain_a < 0)]
+        columns += _columns(self, _CONTACT_COLUMNS, self.path, self.group_name)
+        return pandas.DataFrame(dict(columns))
+
 
 class Snapshot:
     """One instant: the active grains (ascending body index) and their contacts.
@@ -59,6 +101,7 @@ class Snapshot:
     def __init__(self, dem, name, group):
         self.name = name
         self.dem = dem
+        self.group_name = group.name
         self.time_s = float(required_attribute(group, "time_s", float))
         self.gravity_m_per_s2 = float(required_attribute(group, "gravity_m_per_s2", float))
         self.units = {}
@@ -84,6 +127,37 @@ class Snapshot:
     def area(self):
         """Each grain's area [m^2]."""
         return self.dem.bodies["area"][self.body]
+
+    def to_frame(self):
+        """The grains as a pandas DataFrame, one row per grain in the snapshot's order (row i is
+        grain i of the arrays, the row contacts.grain_a and grain_b name): body, x_m, y_m (the
+        centroid), angle_rad, vx_m_per_s, vy_m_per_s, omega_rad_per_s, contact_force_x_N,
+        contact_force_y_N (the contacts' sum, gravity not included), contact_count (contacts
+        touching the grain, walls included), area_m2, mass_kg, is_disc, corners (a polygon's
+        vertices; 0 for a disc). Each column's unit is its dataset's `unit` attribute, checked.
+        Needs pandas (Debian's python3-pandas)."""
+        import pandas
+        b, bu = self.dem.bodies, self.dem.body_units
+        columns = [("body", self.body)] + _columns(self, _GRAIN_COLUMNS, self.dem.path, self.group_name)
+        columns.append(("contact_count", self.contact_count))
+        for column, name, unit in (("area_m2", "area", "m^2"), ("mass_kg", "mass", "kg")):
+            _require_unit(self.dem.path, f"/bodies/{name}", bu[name], unit)
+            columns.append((column, b[name][self.body]))
+        columns += [("is_disc", b["kind"][self.body] == 1), ("corners", np.diff(b["vertex_offset"])[self.body])]
+        return pandas.DataFrame(dict(columns))
+
+    def coordination_number(self, walls=True):
+        """The mean number of contacts per grain over the snapshot's N grains (rattlers, with no
+        contact, included), from the contact table: (2 C_gg + C_gw) / N with walls=True, each
+        grain-grain contact counted at both its grains and a grain-wall contact (plate, side
+        walls, a base of fixed grains) once, at its grain (the mean of contact_count); 2 C_gg / N
+        with walls=False. Every contact of the table counts, whatever its force. NaN for no
+        grains."""
+        if len(self) == 0:
+            return float("nan")
+        on_wall = int(np.count_nonzero(self.contacts.grain_a < 0))
+        between = len(self.contacts) - on_wall
+        return (2 * between + (on_wall if walls else 0)) / len(self)
 
     def polygons(self, disc_corners=24):
         """Each grain's outline in the world frame, a list of (k, 2) arrays [m]; a disc is drawn

@@ -1,8 +1,10 @@
 """A run directory: report.json, the scene, and the files of every stage, loaded on first use."""
 import csv
 import json
+import math
 import os
 from collections import defaultdict
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -36,6 +38,89 @@ def _cached(loader):
     return property(get)
 
 
+@dataclass(frozen=True)
+class PileGeometry:
+    """The pile as the DEM stage measured it on its `settled` snapshot (dem/pile_shape.h),
+    read from report.json's dem section, so that there is one apex, the report's: apex_x_m
+    (dem.apex_x_m, the centre of the highest surface bin), apex_y_m (dem.height_m, the highest
+    grain point above the plate top y = 0: the height h), half_width_m (R, dem.plate_force_dip.
+    half_width_m: the half-width of the wedge of the pile's height and flanks,
+    R = h (cot theta_left + cot theta_right) / 2, the R of the report's dip statistic),
+    repose_angle_left_deg, repose_angle_right_deg (NaN where a flank has no angle, and then R
+    too). source: where the values come from."""
+
+    apex_x_m: float
+    apex_y_m: float
+    half_width_m: float
+    repose_angle_left_deg: float
+    repose_angle_right_deg: float
+    source: str
+
+    def x_over_R(self, x):
+        """x' = (x - apex_x_m) / half_width_m of positions x [m]: 0 under the apex, +-1 at the
+        wedge's feet. A ValueError when R is not known (a flank without an angle)."""
+        if not (math.isfinite(self.half_width_m) and self.half_width_m > 0):
+            angles = f"{self.repose_angle_left_deg}, {self.repose_angle_right_deg} deg"
+            raise ValueError(f"{self.source}: no half-width R (a flank has no angle of repose: {angles}), "
+                             "so no x' = (x - apex) / R")
+        return (np.asarray(x, dtype=float) - self.apex_x_m) / self.half_width_m
+
+
+def _wedge_half_width(height, left_deg, right_deg):
+    """R = h (cot theta_left + cot theta_right) / 2, as dem/pile_run.cpp computes it (NaN when
+    an angle is)."""
+    def cot(deg):
+        t = math.tan(math.radians(deg))
+        return math.inf if t == 0 else 1.0 / t
+
+    return 0.5 * height * (cot(left_deg) + cot(right_deg))
+
+
+def _pile_geometry(path, report):
+    """The PileGeometry of report (the dict of path, a report.json) from its dem section."""
+    _require_file(path, "`pilelab run`")
+    dem = report.get("dem")
+    if not isinstance(dem, dict):
+        raise KeyError(f"{path}: no dem section (the DEM stage has not finished here)")
+
+    def number(key, value, nullable):
+        if value is None and nullable:
+            return math.nan
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            fail(path, f"dem.{key}", f"is {value!r}; expected a number{' or null' if nullable else ''}")
+        return float(value)
+
+    for key in ("apex_x_m", "height_m", "repose_angle_left_deg", "repose_angle_right_deg"):
+        if key not in dem:
+            fail(path, f"dem.{key}", "missing; expected the measured pile (docs/FORMAT.md)")
+    height = number("height_m", dem["height_m"], False)
+    left = number("repose_angle_left_deg", dem["repose_angle_left_deg"], True)
+    right = number("repose_angle_right_deg", dem["repose_angle_right_deg"], True)
+    dip = dem.get("plate_force_dip")
+    if isinstance(dip, dict) and "half_width_m" in dip:
+        half_width = number("plate_force_dip.half_width_m", dip["half_width_m"], True)
+        source = f"{path}: dem"
+    else:  # a report written before the dip statistic: R by the same formula
+        half_width = _wedge_half_width(height, left, right)
+        source = f"{path}: dem (R from height_m and the repose angles)"
+    return PileGeometry(number("apex_x_m", dem["apex_x_m"], False), height, half_width, left, right, source)
+
+
+def _mean_geometry(path, members):
+    """An ensemble's pile as the later stages take it (apps/run_command.cpp, measured_pile): the
+    members' mean apex, height and angles (each over the members with a value), and R of the
+    wedge of those means."""
+    each = [m.geometry() for m in members]
+
+    def mean(name):
+        values = [getattr(g, name) for g in each if math.isfinite(getattr(g, name))]
+        return sum(values) / len(values) if values else math.nan
+
+    height, left, right = mean("apex_y_m"), mean("repose_angle_left_deg"), mean("repose_angle_right_deg")
+    return PileGeometry(mean("apex_x_m"), height, _wedge_half_width(height, left, right), left, right,
+                        f"{path}: the means of its {len(each)} members' dem sections")
+
+
 class Member:
     """One pile of an ensemble: its seed, directory, report and dem.h5."""
 
@@ -51,6 +136,10 @@ class Member:
     def dem(self):
         return _if_exists(os.path.join(self.path, "dem.h5"), DemFile)
 
+    def geometry(self):
+        """This pile's PileGeometry, from its report.json."""
+        return _pile_geometry(os.path.join(self.path, "report.json"), self.report)
+
 
 class Run:
     """The outputs of `pilelab run` (or of any stage) in one directory.
@@ -58,7 +147,8 @@ class Run:
     report: report.json as a dict ({} when missing). scene_text / scene: the scene (from
     dem.h5, or the solve's copy), as text and parsed. dem, fields, models: DemFile, Fields,
     Models, or None when the file is missing. profiles(source, quantity): the cuts of
-    profiles.csv. members: the ensemble's piles (empty for one pile)."""
+    profiles.csv. members: the ensemble's piles (empty for one pile). geometry(): the pile's
+    apex and half-width; base_pressure() and plate_load() along x or x' = (x - apex) / R."""
 
     def __init__(self, path):
         self.path = os.fspath(path)
@@ -127,22 +217,33 @@ class Run:
         import pandas
         return pandas.read_csv(self.file("profiles.csv"))
 
-    def base_pressure(self, source="dem"):
+    def geometry(self):
+        """The pile's PileGeometry (apex, height, half-width R, flanks) from report.json's dem
+        section; for an ensemble, the pile the later stages mesh: the members' mean apex, height
+        and angles, and R of that mean wedge."""
+        if self.members:
+            return _mean_geometry(self.path, self.members)
+        return _pile_geometry(self.file("report.json"), self.report)
+
+    def base_pressure(self, source="dem", scaled=False):
         """sigma_yy / rho g h along the lowest cut: x [m], value, standard error (the profile the
-        paper's Fig. 9A plots; compression positive)."""
+        paper's Fig. 9A plots; compression positive). scaled=True: x' = (x - apex) / R of
+        geometry() in place of x."""
         _require_file(self.file("profiles.csv"), "`pilelab coarse`")
         cuts = self.profiles(source, "sigma_yy")
         if not cuts:
             raise KeyError(f"{self.path}: profiles.csv has no sigma_yy rows of {source!r}")
         rows = cuts[min(cuts)]
-        return rows["x_m"], rows["value"], rows["stderr"]
+        x = self.geometry().x_over_R(rows["x_m"]) if scaled else rows["x_m"]
+        return x, rows["value"], rows["stderr"]
 
-
-    def plate_load(self):
+    def plate_load(self, scaled=False):
         """The plate's load as a load cell measures it (the vertical force of the grain-plate
         contacts per unit length, binned a grain diameter wide; the report's
         dem.plate_force_profile): x [m], load [N/m], standard error. One pile: its profile, with
-        no error (zeros); an ensemble: the members' mean and its standard error."""
+        no error (zeros); an ensemble: the members' mean and its standard error. scaled=True:
+        the bin centres as x' = (x - apex) / R of geometry(), the load unchanged in N/m, so
+        that sum(load) * dx' = (plate force) / R."""
         piles = [(m.path, m.report) for m in self.members] or [(self.path, self.report)]
         for directory, report in piles:
             _require_file(os.path.join(directory, "report.json"), "`pilelab run`")
@@ -156,7 +257,7 @@ class Run:
                               "expected the same bins")
         loads = np.array([load for _, load in profiles])
         stderr = loads.std(axis=0, ddof=1) / np.sqrt(len(loads)) if len(loads) > 1 else np.zeros_like(x)
-        return x, loads.mean(axis=0), stderr
+        return (self.geometry().x_over_R(x) if scaled else x), loads.mean(axis=0), stderr
 
 
 # What a run's directory holds when some stage has finished there.

@@ -74,6 +74,26 @@ TEST_F(RunStatusTest, AllowUnsettledRunsTheLaterStagesAndWarns) {
   EXPECT_TRUE(std::filesystem::exists(path("out/fields.h5")));
 }
 
+// Discs without rolling resistance do not hold a pile (issue 55: a disc scene lost 71 of 300
+// grains and stood at 9 degrees): they roll off the plate. The run says so and stops with fail,
+// or, with --allow-unsettled, runs the later stages and warns in report.json.
+TEST_F(RunStatusTest, DiscsWithoutRollingResistanceFailOrWarn) {
+  std::ifstream in(std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny_pipeline.toml");
+  std::string toml((std::istreambuf_iterator<char>(in)), {});
+  toml.replace(toml.find("[dem.integrator]"), 16, "[dem.grains]\nshape = \"disc\"\n\n[dem.integrator]");
+  const std::string scene = write_scene("discs.toml", toml);
+  const auto failed = run("run " + scene + " -o " + path("fail") + " -q --no-figures");
+  EXPECT_EQ(failed.exit_code, 3) << failed.output;
+  EXPECT_EQ(read_json(path("fail/report.json"))["status"]["level"], "fail");
+  EXPECT_NE(failed.output.find("fell off the plate"), std::string::npos) << failed.output;
+  const auto allowed = run("run " + scene + " -o " + path("warn") + " -q --no-figures --allow-unsettled");
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.output;
+  const auto report = read_json(path("warn/report.json"));
+  EXPECT_EQ(report["status"]["level"], "warn");
+  EXPECT_TRUE(has_failing_item(report["status"], "dem")) << report["status"].dump();
+  EXPECT_TRUE(std::filesystem::exists(path("warn/fields.h5")));
+}
+
 TEST_F(RunStatusTest, AMembersFindingsReachTheEnsemblesStatus) {
   const std::string scene = write_scene("narrow.toml", narrow_plate("tiny_ensemble.toml"));
   const auto r = run("run " + scene + " -o " + path("out") + " -q --no-figures -P 2");

@@ -48,7 +48,7 @@ std::string frame_name(const char* kind, std::size_t index) {
   return buf;
 }
 
-// The frames of a pour (grains_K.vtu, contacts_K.vtu) and their series dem.pvd.
+// The frames of a pour (grains_K.vtu, contacts_K.vtu, walls_K.vtu) and their series dem.pvd.
 class FrameWriter {
  public:
   FrameWriter(const std::string& out_dir) : dir_(out_dir), pvd_(out_dir + "/dem.pvd") {}
@@ -56,6 +56,7 @@ class FrameWriter {
     const std::size_t k = times.size();
     write_grains_vtu(dir_ + "/" + frame_name("grains", k), world);
     write_contacts_vtu(dir_ + "/" + frame_name("contacts", k), world);
+    write_walls_vtu(dir_ + "/" + frame_name("walls", k), world);
     times.push_back(world.time());
     add_to_series(k, times[k]);
     pvd_.write();
@@ -75,12 +76,13 @@ class FrameWriter {
   void add_to_series(std::size_t k, double time) {
     pvd_.add(time, frame_name("grains", k), 0, "grains");
     pvd_.add(time, frame_name("contacts", k), 1, "contacts");
+    pvd_.add(time, frame_name("walls", k), 2, "walls");
   }
   void remove_frames_from(std::size_t first) const {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
       const std::string name = entry.path().filename().string();
-      for (const char* kind : {"grains_", "contacts_"}) {
+      for (const char* kind : {"grains_", "contacts_", "walls_"}) {
         const std::size_t prefix = std::strlen(kind);
         const bool frame = name.size() == prefix + 9 && name.compare(0, prefix, kind) == 0 &&
                            name.compare(prefix + 5, 4, ".vtu") == 0 &&

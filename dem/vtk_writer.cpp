@@ -176,13 +176,8 @@ std::string xml_escape(const std::string& text) {
   return out;
 }
 
-}  // namespace
-
-void write_grains_vtu(const std::string& path, const World& world) {
-  std::vector<int> bodies;
-  for (int w = 0; w < world.wall_count(); ++w) bodies.push_back(w);
-  bodies.insert(bodies.end(), world.active_grains().begin(), world.active_grains().end());
-
+// One VTK_POLYGON cell per body of `bodies`, with the cell data write_grains_vtu lists.
+void write_bodies_vtu(const std::string& path, const World& world, const std::vector<int>& bodies) {
   Grid g;
   const std::vector<std::int64_t> count = contacts_per_body(world);
   const std::vector<std::array<double, 4>> moment = stress_moments(world);
@@ -222,6 +217,17 @@ void write_grains_vtu(const std::string& path, const World& world) {
   g.array("stress", "Float64", 9).reals = std::move(stress);
   g.array("pressure", "Float64").reals = std::move(pressure);
   write_text_atomically(path, vtu_text(g, world.time()));
+}
+}  // namespace
+
+void write_grains_vtu(const std::string& path, const World& world) {
+  write_bodies_vtu(path, world, std::vector<int>(world.active_grains().begin(), world.active_grains().end()));
+}
+
+void write_walls_vtu(const std::string& path, const World& world) {
+  std::vector<int> walls(static_cast<std::size_t>(world.wall_count()));
+  for (int w = 0; w < world.wall_count(); ++w) walls[static_cast<std::size_t>(w)] = w;
+  write_bodies_vtu(path, world, walls);
 }
 
 void write_contacts_vtu(const std::string& path, const World& world) {

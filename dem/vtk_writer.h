@@ -13,10 +13,14 @@ namespace pilelab::dem {
 /// Discs are drawn as regular polygons with this many corners.
 constexpr int disc_outline_corners = 24;
 
-/// One VTK_POLYGON cell per wall and per active grain (walls first, then grains by body
-/// index), outlines placed from each body's position and angle. Cell data: body, is_wall,
-/// velocity, angular_velocity, contact_force, contact_count, speed. Field data: TIME.
+/// One VTK_POLYGON cell per active grain (by body index), outlines placed from each body's
+/// position and angle. Cell data: body, is_wall, velocity, angular_velocity, contact_force,
+/// contact_count, speed, angle, area, radius, stress, pressure. Field data: TimeValue, TIME.
 void write_grains_vtu(const std::string& path, const World& world);
+
+/// The walls (the plate, the funnel, fixed base grains) as write_grains_vtu writes grains, so that
+/// they are a block of their own in ParaView (is_wall 1, stress and pressure 0).
+void write_walls_vtu(const std::string& path, const World& world);
 
 /// One VTK_LINE cell per contact, from the centroid of a (for a wall: the contact point) to the
 /// centroid of b. Cell data: body_a, body_b, normal_force, tangential_force, force, overlap_area,

@@ -432,8 +432,10 @@ TEST_F(DemFileTest, VtuAndPvdFiles) {
   const std::string dem = written_dem_file(t);
   fs::create_directories(dir_ / "vtk");
   const std::string grains = file("vtk/grains_0000.vtu"), contacts = file("vtk/contacts_0000.vtu");
+  const std::string walls = file("vtk/walls_0000.vtu");
   write_grains_vtu(grains, t.world);
   write_contacts_vtu(contacts, t.world);
+  write_walls_vtu(walls, t.world);
 
   World lonely{WorldSettings{}};  // no contacts at all
   lonely.add_grain(make_disc(0.01), 1000.0);
@@ -445,13 +447,14 @@ TEST_F(DemFileTest, VtuAndPvdFiles) {
   PvdSeries pvd(file("dem.pvd"));
   pvd.add(t.world.time(), "vtk/grains_0000.vtu", 0, "grains");
   pvd.add(t.world.time(), "vtk/contacts_0000.vtu", 1, "contacts");
+  pvd.add(t.world.time(), "vtk/walls_0000.vtu", 2, "walls");
   pvd.write();
-  EXPECT_EQ(pvd.size(), 2u);
+  EXPECT_EQ(pvd.size(), 3u);
   const std::string text = slurp(file("dem.pvd"));
   EXPECT_NE(text.find("type=\"Collection\""), std::string::npos);
   EXPECT_NE(text.find("file=\"vtk/contacts_0000.vtu\""), std::string::npos);
 
-  const int cells = t.world.wall_count() + static_cast<int>(t.world.active_grains().size());
+  const int cells = static_cast<int>(t.world.active_grains().size());
   const int lines = static_cast<int>(t.world.contacts().size());
   ASSERT_GT(lines, 0);
   if (std::system("/usr/bin/python3 -c 'import meshio, h5py' >/dev/null 2>&1") != 0)
@@ -460,7 +463,8 @@ TEST_F(DemFileTest, VtuAndPvdFiles) {
   auto quote = [](const std::string& s) { return "'" + s + "'"; };
   const std::string command = "/usr/bin/python3 " + quote(script) + " " + quote(dem) + " " + quote(grains) + " " +
                               std::to_string(cells) + " " + quote(contacts) + " " + std::to_string(lines) + " " +
-                              quote(empty) + " " + quote(file("dem.pvd"));
+                              quote(empty) + " " + quote(file("dem.pvd")) + " " + quote(walls) + " " +
+                              std::to_string(t.world.wall_count());
   const int status = std::system(command.c_str());
   ASSERT_TRUE(WIFEXITED(status)) << command;
   EXPECT_EQ(WEXITSTATUS(status), 0) << command;

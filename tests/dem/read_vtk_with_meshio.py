@@ -2,7 +2,7 @@
 """Opens pilelab's DEM output with third-party readers, as a user's script would.
 
 Usage: read_vtk_with_meshio.py DEM_H5 GRAINS_VTU N_GRAIN_CELLS CONTACTS_VTU N_CONTACT_CELLS
-                               EMPTY_CONTACTS_VTU PVD
+                               EMPTY_CONTACTS_VTU PVD WALLS_VTU N_WALL_CELLS
 
 Checks the cell counts and cell-data names of the VTU files with meshio, the empty contacts
 file and the .pvd with an XML parser (meshio 5.0 cannot read a grid with no cells), and the
@@ -54,15 +54,23 @@ def check_vtu(path, cell_type, expected_cells, arrays):
     return mesh
 
 
+def check_walls(path, expected_cells):
+    """The walls' block: every cell a wall, without stress."""
+    mesh = check_vtu(path, "polygon", expected_cells, GRAIN_ARRAYS)
+    if not (np.concatenate(mesh.cell_data["is_wall"]) == 1).all():
+        fail(f"{path}: a cell that is not a wall")
+    if (np.concatenate(mesh.cell_data["stress"]) != 0).any():
+        fail(f"{path}: walls carry a stress")
+
+
 def check_grains(path, expected_cells):
     mesh = check_vtu(path, "polygon", expected_cells, GRAIN_ARRAYS)
     body = np.concatenate(mesh.cell_data["body"])
     is_wall = np.concatenate(mesh.cell_data["is_wall"])
     if len(set(body)) != len(body):
         fail(f"{path}: repeated body indices")
-    walls = int(is_wall.sum())
-    if not (is_wall[:walls] == 1).all():
-        fail(f"{path}: walls are not the first cells")
+    if (is_wall != 0).any():
+        fail(f"{path}: a wall among the grains (walls have a block of their own)")
     speed = np.concatenate(mesh.cell_data["speed"])
     velocity = np.concatenate(mesh.cell_data["velocity"])
     if not np.allclose(speed, np.hypot(velocity[:, 0], velocity[:, 1]), rtol=1e-8, atol=0):
@@ -80,8 +88,6 @@ def check_grains(path, expected_cells):
         fail(f"{path}: stress is not a symmetric in-plane tensor")
     if not np.allclose(np.concatenate(mesh.cell_data["equivalent_radius"]), np.sqrt(area / np.pi), rtol=1e-8):
         fail(f"{path}: equivalent_radius is not sqrt(area / pi)")
-    if (stress[is_wall == 1] != 0).any():
-        fail(f"{path}: walls carry a stress")
 
 
 def check_empty_contacts(path):
@@ -103,8 +109,9 @@ def check_pvd(path):
     for d in datasets:
         float(d.get("timestep"))
         part = int(d.get("part"))
-        if d.get("name") != ("grains", "contacts")[part]:
-            fail(f"{path}: part {part} is named {d.get('name')!r}, expected {('grains', 'contacts')[part]!r}")
+        names = ("grains", "contacts", "walls")
+        if part >= len(names) or d.get("name") != names[part]:
+            fail(f"{path}: part {part} is named {d.get('name')!r}, expected one of {names} by part")
         file = os.path.join(os.path.dirname(path), d.get("file"))
         if not os.path.exists(file):
             fail(f"{path}: lists {d.get('file')}, which does not exist")
@@ -182,10 +189,11 @@ def check_dem_h5(path):
 
 
 def main(argv):
-    if len(argv) != 8:
+    if len(argv) != 10:
         fail(__doc__)
-    dem_h5, grains, n_grains, contacts, n_contacts, empty, pvd = argv[1:]
+    dem_h5, grains, n_grains, contacts, n_contacts, empty, pvd, walls, n_walls = argv[1:]
     check_grains(grains, int(n_grains))
+    check_walls(walls, int(n_walls))
     check_vtu(contacts, "line", int(n_contacts), CONTACT_ARRAYS)
     check_empty_contacts(empty)
     check_pvd(pvd)

@@ -147,6 +147,7 @@ void write_checkpoint(const std::string& path, const std::string& scene_text, co
     f.set_attribute("/counters", "profile_gather_correct_s", counters.profile.gather_correct);
     f.set_attribute("/counters", "snapshots", static_cast<std::int64_t>(protocol.snapshots().size()));
     f.write("/counters/frame_times", counters.frame_times);
+    f.set_attribute("/counters", "snapshot_frames", counters.snapshot_frames);
     f.close();
   });
 }
@@ -305,6 +306,11 @@ void read_checkpoint(const std::string& path, const std::string& scene_text, Pil
     counters.profile.gather_correct = f.attribute_double("/counters", "profile_gather_correct_s");
   }
   counters.frame_times = f.read_doubles("/counters/frame_times");
+  // Older builds wrote no snapshot frames.
+  counters.snapshot_frames = f.has_attribute("/counters", "snapshot_frames") ? f.attribute_int("/counters", "snapshot_frames") : 0;
+  if (counters.snapshot_frames < 0 || counters.snapshot_frames > static_cast<std::int64_t>(counters.frame_times.size()))
+    throw InputError(path + ": /counters attribute snapshot_frames is " + std::to_string(counters.snapshot_frames) +
+                     "; expected 0 .. the number of frame times (" + std::to_string(counters.frame_times.size()) + ")");
 }
 
 }  // namespace pilelab::dem

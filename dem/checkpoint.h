@@ -14,6 +14,9 @@ struct RunCounters {
   std::int64_t particle_steps = 0;   ///< sum over steps of active grains
   double wall_time = 0.0;            ///< [s] accumulated over all sessions of this run
   std::vector<double> frame_times;   ///< simulated times of the VTK frames written
+  /// Of those, the frames of the snapshots (settled, relaxed), written when each is taken; the
+  /// others fall at the frame interval.
+  std::int64_t snapshot_frames = 0;
   std::int64_t checkpoints = 0;      ///< checkpoints written
   double last_checkpoint_time = 0.0;  ///< [s] simulated time of the last one
   double wall_time_settled = -1.0;    ///< [s] wall time when the pile had poured and settled; -1 before

@@ -431,11 +431,18 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
   };
 
   while (!protocol.done()) {
+    const std::size_t snapshots_before = protocol.snapshots().size();
     protocol.step();
     counters.particle_steps += static_cast<std::int64_t>(world.active_grains().size());
     if (counters.wall_time_settled < 0 && !protocol.snapshots().empty()) counters.wall_time_settled = wall_before + elapsed();
-    if (out.frame_interval > 0 && world.time() >= counters.frame_times.size() * out.frame_interval)
+    // A frame at each multiple of the interval, and one of each snapshot as it is taken (the
+    // settled pile is then a frame of dem.pvd, the state the later stages measure).
+    const auto scheduled = static_cast<double>(static_cast<std::int64_t>(counters.frame_times.size()) - counters.snapshot_frames);
+    if (out.frame_interval > 0 && world.time() >= scheduled * out.frame_interval) frames.write(world, counters.frame_times);
+    if (protocol.snapshots().size() > snapshots_before) {
       frames.write(world, counters.frame_times);
+      ++counters.snapshot_frames;
+    }
     const bool interrupted = interrupted_by != 0;
     const bool stop_now =
         interrupted || (opt.stop_after_steps > 0 && world.steps() - first_step >= opt.stop_after_steps);
@@ -468,7 +475,7 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
     }
   }
   count_this_session();
-  frames.write(world, counters.frame_times);
+  if (counters.frame_times.empty() || counters.frame_times.back() != world.time()) frames.write(world, counters.frame_times);
   return finish_pour(opt, scene, reader.text(), protocol, counters, threads);
 }
 

@@ -1,12 +1,16 @@
 // `pilelab run` end to end on the tiny pile: every stage, every output readable by tools
 // pilelab did not write (h5py, meshio), report.json with every documented key; a second run
 // skips the unchanged stages.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.h"
+#include "dem/dem_file.h"
 
 using pilelab::test::CliTest;
 
@@ -64,6 +68,27 @@ TEST_F(Pipeline, TinySceneThroughEveryStage) {
   ASSERT_EQ(figures.exit_code, 0) << figures.output;
   for (const char* png : {"base_pressure.png", "pile_pressure.png"})
     EXPECT_TRUE(std::filesystem::exists(path("out/figures/") + png)) << png << "\n" << figures.output;
+}
+
+// The snapshots the later stages measure (settled, relaxed) are frames of dem.pvd at their exact
+// times, beside the frames at the frame interval, which keep their schedule (one per interval).
+TEST_F(Pipeline, TheSnapshotsAreFramesOfTheSeries) {
+  const std::string out = path("out");
+  ASSERT_EQ(run("dem " + std::string(PILELAB_SOURCE_DIR) + "/tests/cli/tiny.toml -o " + out + " -q -j 1").exit_code, 0);
+  std::ifstream in(out + "/dem.pvd");
+  const std::string pvd((std::istreambuf_iterator<char>(in)), {});
+  std::vector<double> times;  // of the grains' part
+  for (std::size_t at = pvd.find("timestep=\""); at != std::string::npos; at = pvd.find("timestep=\"", at + 1))
+    if (pvd.compare(pvd.find("part=\"", at) + 6, 1, "0") == 0) times.push_back(std::stod(pvd.substr(at + 10)));
+  const pilelab::dem::DemFile dem = pilelab::dem::read_dem_file(out + "/dem.h5");
+  int interval_frames = 0;
+  for (const double t : times) interval_frames += std::abs(t / 0.1 - std::round(t / 0.1)) < 1e-3;  // 0.1 s interval
+  for (const std::string& name : dem.snapshot_names) {
+    const double t = dem.snapshot(name).time;
+    EXPECT_NE(std::find(times.begin(), times.end(), t), times.end()) << name << " at " << t << " s is not a frame";
+  }
+  EXPECT_EQ(interval_frames, static_cast<int>(std::floor(times.back() / 0.1)) + 1) << pvd;
+  EXPECT_EQ(times.size(), interval_frames + dem.snapshot_names.size()) << pvd;
 }
 
 // A wedge mesh under `pilelab run` is the poured pile's wedge, one pile as an ensemble: its

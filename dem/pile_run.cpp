@@ -102,8 +102,10 @@ std::string duration_text(double seconds) {
     std::snprintf(buf, sizeof buf, "%.0f s", seconds);
   else if (seconds < 7200.0)
     std::snprintf(buf, sizeof buf, "%.0f min", seconds / 60.0);
-  else
+  else if (seconds < 172800.0)
     std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f days", seconds / 86400.0);
   return buf;
 }
 
@@ -401,12 +403,24 @@ nlohmann::json run_dem(const DemRunOptions& opt) {
                    protocol.world().time(), static_cast<long long>(protocol.world().steps()));
   } else {
     frames.start({});
+    // What the pour will cost, at the reference rate: said before it starts, and said even
+    // when quiet if it is more than a day on one core (a scene of tiny grains must not start a
+    // pour of months silently).
+    const RunCost cost = run_cost(scene, protocol.world().settings().time_step);
+    const double longest_s = cost.grain_steps_longest / reference_grain_steps_per_core_s;
     if (!opt.quiet) {
       const TimeStepBound& b = protocol.time_step_bound();
       std::fprintf(stderr, "pilelab dem: %d grains, %s, dt = %.3e s (stable limit %.3e s), %d thread(s)\n",
                    scene.grain_count, scheme_name(scene.scheme), protocol.world().settings().time_step, b.stable_limit,
                    threads);
+      std::fprintf(stderr, "pilelab dem: %.3g to %.3g grain-steps, about %s to %s on one core\n", cost.grain_steps_shortest,
+                   cost.grain_steps_longest, duration_text(cost.grain_steps_shortest / reference_grain_steps_per_core_s).c_str(),
+                   duration_text(longest_s).c_str());
     }
+    if (longest_s > 86400.0)
+      std::fprintf(stderr, "warning: this pour may take up to %s on one core (%.3g grain-steps at %.0e a second): "
+                           "pilelab check estimates a scene's cost before it runs\n",
+                   duration_text(longest_s).c_str(), cost.grain_steps_longest, reference_grain_steps_per_core_s);
   }
 
   World& world = protocol.world();

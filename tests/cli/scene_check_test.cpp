@@ -114,6 +114,16 @@ TEST_F(SceneCheck, TheCheckEstimatesThePourAndRefusesOneNoComputerWouldFinish) {
   EXPECT_TRUE(near(g1, (n * n / (2 * rate) + n * (t1 - pour)) / dt)) << g1;
   EXPECT_NE(r.output.find("on one core at 5e+06 grain-steps/s"), std::string::npos) << r.output;
 
+  // A pour of days (the tiny pile's grains at 1e-5 grains/s: 3.9e6 s of pouring) warns as it
+  // starts, quiet or not, with the time on one core; it is stopped after a step here.
+  std::string days = pilelab::test::tiny_scene();
+  days.replace(days.find("rate_grains_per_s = 400.0"), 25, "rate_grains_per_s = 1e-5");
+  days.replace(days.find("frame_interval_s = 0.1"), 22, "frame_interval_s = 0.0");
+  days.replace(days.find("checkpoint_interval_s = 0.1"), 27, "checkpoint_interval_s = 0.0");
+  const auto started = run("dem " + write_scene("days.toml", days) + " -o " + path("days") + " -q -j 1 --stop-after-steps 1");
+  EXPECT_NE(started.output.find("warning: this pour may take up to"), std::string::npos) << started.output;
+  EXPECT_NE(started.output.find(" days on one core"), std::string::npos) << started.output;
+
   std::string slow = pilelab::test::tiny_scene();
   slow.replace(slow.find("rate_grains_per_s = 400.0"), 25, "rate_grains_per_s = 1e-6");
   const auto refused = run("check " + write_scene("slow.toml", slow));

@@ -758,10 +758,16 @@ Comparison::Comparison(const CompareRunOptions& opt) : opt_(opt) {
   if (repose_deg_ <= 0 && opt.measured_repose_angle_deg) repose_deg_ = *opt.measured_repose_angle_deg;
   if (repose_deg_ <= 0 && !opt.measured_repose_angle_deg)
     repose_deg_ = dem::mean_repose_angle_deg(read_report(in_dir(opt.out_dir, "report.json"))).value_or(0.0);
-  // The axis: through the apex, the highest node.
-  double top = -INFINITY;
+  // The axis: through the apex, the highest node, or the middle of the highest nodes of a flat
+  // top, as the continuum models place it (continuum/pile_domain.cpp, measure_pile).
+  double top = -INFINITY, xmin = INFINITY, xmax = -INFINITY;
+  for (const Vec2& p : mesh_.nodes) top = std::max(top, p.y()), xmin = std::min(xmin, p.x()), xmax = std::max(xmax, p.x());
+  const double tolerance = 1e-9 * std::max(1.0, xmax - xmin);
+  double sum = 0;
+  int highest = 0;
   for (const Vec2& p : mesh_.nodes)
-    if (p.y() > top) top = p.y(), apex_x_ = p.x();
+    if (p.y() >= top - tolerance) sum += p.x(), ++highest;
+  apex_x_ = sum / highest;
   const double h = height_;
   lower_half_ = [h](const Vec2& c) { return c.y() < 0.5 * h; };
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "coarse/coarse_scene.h"
+#include "common/duration_text.h"
 #include "common/ensemble.h"
 #include "common/error.h"
 #include "common/scene_reader.h"
@@ -81,26 +82,10 @@ SceneCheck check_scene(const std::string& path, bool estimate_cost) {
   return check;
 }
 
-namespace {
-// A span of core time as a person reads it: seconds, minutes, hours or days.
-std::string core_time_text(double seconds) {
-  char text[64];
-  if (seconds < 120)
-    std::snprintf(text, sizeof text, "%.2g s", seconds);
-  else if (seconds < 7200)
-    std::snprintf(text, sizeof text, "%.2g min", seconds / 60);
-  else if (seconds < 172800)
-    std::snprintf(text, sizeof text, "%.2g h", seconds / 3600);
-  else
-    std::snprintf(text, sizeof text, "%.3g days", seconds / 86400);
-  return text;
-}
-}  // namespace
-
 std::string cost_text(const SceneCheck& check) {
   if (!check.pour_cost) return "";
   const dem::RunCost& c = *check.pour_cost;
-  const auto core_time = [&](double grain_steps) { return core_time_text(grain_steps / dem::reference_grain_steps_per_core_s); };
+  const auto core_time = [&](double grain_steps) { return duration_text(grain_steps / dem::reference_grain_steps_per_core_s); };
   char text[512];
   std::snprintf(text, sizeof text,
                 "the pour: %d grains at dt = %.3g s, %.3g to %.3g s simulated (settling at its minimum or its limit): "

@@ -17,6 +17,7 @@
 #endif
 
 #include "common/atomic_file.h"
+#include "common/duration_text.h"
 #include "common/error.h"
 #include "common/report.h"
 #include "common/scene_reader.h"
@@ -94,20 +95,6 @@ class FrameWriter {
   std::string dir_;
   PvdSeries pvd_;
 };
-
-// A wall-clock span for progress lines: seconds, minutes or hours as fits.
-std::string duration_text(double seconds) {
-  char buf[32];
-  if (seconds < 120.0)
-    std::snprintf(buf, sizeof buf, "%.0f s", seconds);
-  else if (seconds < 7200.0)
-    std::snprintf(buf, sizeof buf, "%.0f min", seconds / 60.0);
-  else if (seconds < 172800.0)
-    std::snprintf(buf, sizeof buf, "%.1f h", seconds / 3600.0);
-  else
-    std::snprintf(buf, sizeof buf, "%.1f days", seconds / 86400.0);
-  return buf;
-}
 
 void print_progress(const PileProtocol& p, double steps_per_s, double grain_steps_per_s) {
   const auto& s = p.state();

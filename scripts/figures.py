@@ -30,6 +30,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
 import pilelab  # noqa: E402
+from figures_dir import probe_figures_dir  # noqa: E402  (scripts/, this script's folder)
 
 plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "axes.labelsize": 9, "legend.fontsize": 8,
                      "xtick.labelsize": 8, "ytick.labelsize": 8, "axes.grid": False,
@@ -60,20 +61,11 @@ def cannot_write(path, error):
 
 
 def prepare_figures_dir(out):
-    """OUT/figures made and probed before any figure is drawn, as the stages probe their folders."""
-    directory = os.path.join(out, "figures")
-    probe = os.path.join(directory, f".probe.tmp.{os.getpid()}")
-    try:
-        os.makedirs(directory, exist_ok=True)
-        with open(probe, "wb") as f:
-            f.write(b"\0" * 4096)
-            f.flush()
-            os.fsync(f.fileno())
-        os.remove(probe)
-    except OSError as e:
-        if os.path.exists(probe):
-            os.remove(probe)
-        cannot_write(directory, e)
+    """OUT/figures made and probed before any figure is drawn (scripts/figures_dir.py)."""
+    directory, reason = probe_figures_dir(out)
+    if reason:
+        print(f"figures.py: {directory}: cannot write: {reason}", file=sys.stderr)
+        sys.exit(2)
 
 
 def save(fig, out, name):

@@ -15,6 +15,8 @@ import os
 import sys
 import xml.etree.ElementTree as ET
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # pvpython may not add it
+from figures_dir import probe_figures_dir  # noqa: E402
 from paraview.simple import (CellDatatoPointData, ColorBy, ExtractSurface, GetActiveViewOrCreate, GetSources, Hide, GetColorTransferFunction, GetScalarBar,
                              Glyph, ResampleToImage, SaveScreenshot, Show, Threshold, Tube,
                              XMLUnstructuredGridReader)
@@ -77,20 +79,10 @@ def cannot_write(path, reason):
 
 
 def prepare_figures_dir(out):
-    """OUT/figures made and probed before ParaView renders anything."""
-    directory = os.path.join(out, "figures")
-    probe = os.path.join(directory, f".probe.tmp.{os.getpid()}")
-    try:
-        os.makedirs(directory, exist_ok=True)
-        with open(probe, "wb") as f:
-            f.write(b"\0" * 4096)
-            f.flush()
-            os.fsync(f.fileno())
-        os.remove(probe)
-    except OSError as e:
-        if os.path.exists(probe):
-            os.remove(probe)
-        cannot_write(directory, e.strerror or e)
+    """OUT/figures made and probed before ParaView renders anything (scripts/figures_dir.py)."""
+    directory, reason = probe_figures_dir(out)
+    if reason:
+        cannot_write(directory, reason)
 
 
 def complete_png(path):

@@ -168,33 +168,31 @@ TEST_F(CoarseRun, MeshThatDoesNotCoverThePile) {
 // refused naming the pile and the mesh, where it was coarse-grained into empty fields and a
 // volume fraction of thousands. A mesh of part of the pile (MeshThatDoesNotCoverThePile) is fine.
 TEST_F(CoarseRun, PileOutsideTheMeshIsRefused) {
-  pilelab::mesh::MeshSpec away;
-  away.wedge = {0.05, 30.0, 30.0, 5.0};
-  away.element_size_m = 0.01;
-  pilelab::mesh::write_mesh(away, out_ + "/away.msh");
-  std::ofstream(out_ + "/away.toml") << "[coarse]\nmesh_file = \"away.msh\"\ndem_files = [\"dem.h5\"]\n";
-  try {
-    pilelab::coarse::run_coarse({out_ + "/away.toml", out_ + "/away_out", {}});
-    ADD_FAILURE() << "a pile outside its mesh was coarse-grained";
-  } catch (const pilelab::InputError& e) {
-    const std::string message = e.what();
-    for (const std::string& word : {out_ + "/dem.h5", std::string("away.msh"), std::string("lie outside")})
-      EXPECT_NE(message.find(word), std::string::npos) << message;
-  }
-  EXPECT_FALSE(std::filesystem::exists(out_ + "/away_out/fields.h5"));
-  // A mesh far larger than the pile holds all its grains but is mostly empty: refused too.
-  pilelab::mesh::MeshSpec huge;
-  huge.wedge = {2.0, 30.0, 30.0, 0.0};
-  huge.element_size_m = 0.1;
-  pilelab::mesh::write_mesh(huge, out_ + "/huge.msh");
-  std::ofstream(out_ + "/huge.toml") << "[coarse]\nmesh_file = \"huge.msh\"\ndem_files = [\"dem.h5\"]\n";
-  try {
-    pilelab::coarse::run_coarse({out_ + "/huge.toml", out_ + "/huge_out", {}});
-    ADD_FAILURE() << "a mesh mostly without grains was coarse-grained";
-  } catch (const pilelab::InputError& e) {
-    const std::string message = e.what();
-    for (const std::string& word : {out_ + "/dem.h5", std::string("huge.msh"), std::string("% of its area")})
-      EXPECT_NE(message.find(word), std::string::npos) << message;
+  struct Case {
+    const char* name;
+    pilelab::mesh::Wedge wedge;
+    double element_size_m;
+    const char* expected;
+  };
+  // The same wedge moved far off the pile; and a mesh far larger than the pile, which holds all
+  // its grains but is mostly empty.
+  for (const Case& c : {Case{"away", {0.05, 30.0, 30.0, 5.0}, 0.01, "lie outside the mesh"},
+                        Case{"huge", {2.0, 30.0, 30.0, 0.0}, 0.1, "% of its area"}}) {
+    pilelab::mesh::MeshSpec spec;
+    spec.wedge = c.wedge;
+    spec.element_size_m = c.element_size_m;
+    const std::string name = c.name;
+    pilelab::mesh::write_mesh(spec, out_ + "/" + name + ".msh");
+    std::ofstream(out_ + "/" + name + ".toml") << "[coarse]\nmesh_file = \"" << name << ".msh\"\ndem_files = [\"dem.h5\"]\n";
+    try {
+      pilelab::coarse::run_coarse({out_ + "/" + name + ".toml", out_ + "/" + name + "_out", {}});
+      ADD_FAILURE() << name << ": a pile off its mesh was coarse-grained";
+    } catch (const pilelab::InputError& e) {
+      const std::string message = e.what();
+      for (const std::string& word : {out_ + "/dem.h5", name + ".msh", std::string(c.expected)})
+        EXPECT_NE(message.find(word), std::string::npos) << message;
+    }
+    EXPECT_FALSE(std::filesystem::exists(out_ + "/" + name + "_out/fields.h5")) << name;
   }
 }
 

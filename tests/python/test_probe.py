@@ -8,7 +8,6 @@ crash is simulated by a child that kills itself with SIGSEGV where it reads a gi
 import os
 import shutil
 import subprocess
-import tempfile
 import unittest
 from unittest import mock
 
@@ -17,6 +16,7 @@ import numpy as np
 
 import pilelab
 from pilelab import _h5, _probe
+from test_damaged import RefusalCase  # noqa: E402  (same folder)
 
 OUT = os.environ.get("PILELAB_RUN", "")
 FILES = ("report.json", "dem.h5", "fields.h5", "models.h5", "profiles.csv")
@@ -78,10 +78,11 @@ def copy_checksummed(source, target):
         src.visititems(copy)
 
 
-class ProbeCase(unittest.TestCase):
+class ProbeCase(RefusalCase):
+    """RefusalCase's directory and assertRefused, with the probe's cache emptied and the probe on."""
+
     def setUp(self):
-        self.dir = tempfile.mkdtemp(prefix="pilelab_probe_")
-        self.addCleanup(shutil.rmtree, self.dir)
+        super().setUp()
         _probe._readable.clear()
         self.addCleanup(_probe._readable.clear)
         # The probe on, whatever the caller's environment says.
@@ -90,15 +91,6 @@ class ProbeCase(unittest.TestCase):
         self.addCleanup(patch.stop)
         self.file = os.path.join(self.dir, "pattern.h5")
         write_checksummed(self.file)
-
-    def assertRefused(self, read, path, *fragments):
-        with self.assertRaises(pilelab.FormatError) as caught:
-            read()
-        message = str(caught.exception)
-        self.assertTrue(message.startswith(path + ":"), message)
-        for fragment in fragments:
-            self.assertIn(fragment, message)
-        return message
 
     def open(self, path=None):
         with _h5.open_file(path or self.file, "pilelab-dem") as f:

@@ -269,8 +269,10 @@ void run_pipeline(const RunOptions& opt) {
   // OUT/run.log keeps what the console shows. It lives until the process ends, so that the
   // error main prints after a failed stage is in it too.
   static std::unique_ptr<RunLog> log;
-  if (root && (!log || log->path() != out("run.log")))
-    log.reset(), log = std::make_unique<RunLog>(out("run.log"), "pilelab run " + opt.scene_path + " -o " + opt.out_dir);
+  if (root && (!log || log->path() != out("run.log"))) {
+    log.reset();  // a log of another folder gives stdout and stderr back before the new one takes them
+    log = std::make_unique<RunLog>(out("run.log"), "pilelab run " + opt.scene_path + " -o " + opt.out_dir);
+  }
   const std::string state_path = out("stages.json");
   nlohmann::json state = nlohmann::json::object();
   if (std::filesystem::exists(state_path)) {

@@ -243,10 +243,10 @@ struct PileSet {
 // it: 3209 was seen). So the grains whose centres lie in the mesh must cover at least a quarter
 // of its area: a settled 2D packing covers about 0.8, and a mesh three quarters empty is not
 // this pile's. A mesh of part of the pile (its core, say) passes: the grains outside are left out.
-void require_pile_on_mesh(const Pile& pile, const Domain& domain, double mesh_area, const std::string& mesh_file) {
-  double area_inside = 0;
-  for (const Grain& g : pile.packing->grains)
-    if (domain.contains(g.centre)) area_inside += g.area;
+void require_pile_on_mesh(const Pile& pile, double mesh_area, const std::string& mesh_file) {
+  double area_inside = 0;  // of the grains the averager keeps: centres in the mesh
+  for (std::size_t p = 0; p < pile.packing->grains.size(); ++p)
+    if (pile.rve->grain_in_domain(p)) area_inside += pile.packing->grains[p].area;
   if (area_inside < 0.25 * mesh_area) {
     std::ostringstream m;
     m << pile.path << ": " << pile.rve->grains_outside_domain() << " of its " << pile.packing->grains.size()
@@ -528,7 +528,7 @@ nlohmann::json run_coarse(const CoarseRunOptions& opt) {
       p.rve->set_displacements(*p.later);
       p.rve_later = std::make_unique<RveAverager>(*p.later, domain, settings.clip_volume);
     }
-    require_pile_on_mesh(p, domain, mesh::mesh_area(mesh), settings.mesh_file);
+    require_pile_on_mesh(p, mesh::mesh_area(mesh), settings.mesh_file);
   }
   const double diameter = set.diameter();
   if (settings.kernel_width_m > 0) check_kernel_width(settings.kernel_width_m, "", settings, diameter, opt.scene_path);

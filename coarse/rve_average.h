@@ -79,6 +79,8 @@ class RveAverager {
   /// Grains whose centre lies outside the domain: left out of every average (the domain
   /// does not cover the whole pile).
   int grains_outside_domain() const { return outside_count_; }
+  /// Whether grain p's centre lies in the domain (grains outside are left out of every average).
+  bool grain_in_domain(std::size_t p) const { return in_domain_[p] != 0; }
 
  private:
   const Packing& packing_;
